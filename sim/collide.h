@@ -1,0 +1,156 @@
+/* collide: cloth-body collision for the sim (private to sim/; owner SIM-B).
+ *
+ * Seed 000 (Su et al. 2018), per body frame k:
+ *   - one LBVH (Karras 2012) over the body triangles, built once per body topology and refitted
+ *     every frame; each leaf carries a static box (frame k, inflated by the thickness: the S-BVH)
+ *     and a swept box (frames k-1 and k together, inflated: the D-BVH), so both BVHs share one
+ * tree;
+ *   - feature points (seed 000 section 2.1, Eq. 1-2): cloth points swept by a moving triangle are
+ *     carried with it;
+ *   - contacts: the nearest triangle within reach of each cloth point, found once per frame (or
+ *     every few iterations) and cached; the solver iterations resolve against the cached triangle;
+ *   - penetration metric: signed distance with angle-weighted pseudo-normals (Baerentzen & Aanaes
+ *     2005).
+ *
+ * Layout (STYLE.md 3): cloth positions float (*x)[4] with w = inverse mass (0 = pinned, never moved
+ * here), body vertices float (*v)[4], triangles int32_t (*tris)[4] (w unused), normals float[4]. */
+#ifndef TRYON_SIM_COLLIDE_H
+#define TRYON_SIM_COLLIDE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Errors a test can name (STYLE.md 11). */
+#define SIM_COLLIDE_ERROR_LIST(X)                                                                  \
+    X(SIM_COLLIDE_OK, 0, "ok")                                                                     \
+    X(SIM_COLLIDE_EARG, -1, "invalid argument (NULL pointer or negative count)")                   \
+    X(SIM_COLLIDE_EEMPTY, -2, "empty body mesh (no vertices or no triangles)")                     \
+    X(SIM_COLLIDE_ETOO_BIG, -3, "body larger than the collider's max_vertices/max_triangles")      \
+    X(SIM_COLLIDE_ENAN, -4, "body vertex coordinate is NaN or infinite")                           \
+    X(SIM_COLLIDE_EINDEX, -5, "triangle vertex index out of range")                                \
+    X(SIM_COLLIDE_EDEGENERATE, -6, "degenerate body triangle (repeated vertex or zero area)")      \
+    X(SIM_COLLIDE_ETOPOLOGY, -7, "body topology changed: tree rebuilt, no sweep this frame")       \
+    X(SIM_COLLIDE_ENOMEM, -8, "out of memory")
+
+#define SIM_COLLIDE_ERROR_ENUM(name, value, text) name = value,
+typedef enum sim_collide_error { SIM_COLLIDE_ERROR_LIST(SIM_COLLIDE_ERROR_ENUM) } sim_collide_error;
+#undef SIM_COLLIDE_ERROR_ENUM
+
+/* The message of a sim_collide_error code ("unknown collide error" for anything else). */
+const char *sim_collide_error_str(int code);
+
+/* ---- The interface the solver calls ------------------------------------------------------- */
+
+typedef struct sim_collider sim_collider;
+typedef struct sim_collider_desc {
+    int max_vertices, max_triangles; /* body capacity, allocated at create */
+    float thickness_m;               /* cloth kept this far outside the body; 0 = 0.004 */
+    float friction;                  /* Coulomb-like coefficient mu, >= 0 */
+    float reach_m; /* contact search radius beyond thickness; 0 = 0.03 (covers a frame's motion) */
+    int max_cloth; /* cloth points the contact cache holds; 0 = none until sim_collider_reserve */
+} sim_collider_desc;
+
+/* NULL on failure with the reason in err. */
+sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t err_size);
+void sim_collider_destroy(sim_collider *c); /* accepts NULL */
+
+/* New body frame: xyz is nv * 3 floats (metres), tris nt * 3 vertex indices. Frame k becomes k-1;
+   refit (or build, when the topology is new) the tree over frame k and the swept boxes k-1 -> k.
+   Returns 0, or a negative sim_collide_error: a rejected body (NaN, index out of range,
+   degenerate, empty, too big) leaves the collider as it was; SIM_COLLIDE_ETOPOLOGY means the body
+   was accepted with a new topology and this frame has no sweep (feature points do nothing). */
+int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt);
+
+/* Seed 000 section 2.1, Eq. 1-2: carry cloth points swept by the body with their triangle.
+   x_prev is moved by the same displacement, so a carried point keeps the velocity it had (the
+   carry is a kinematic jump across a frame gap, not a velocity). Returns how many moved. */
+int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
+                                int end);
+
+/* Find the nearest body triangle within thickness + reach for each point in [begin, end) and
+   cache it (-1: none). Points at or beyond the cache size (max_cloth, or sim_collider_reserve)
+   are ignored. */
+void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
+
+/* Push points out to thickness along the contact normal (face normal, or the pseudo-normal at
+   edges and vertices of the cached triangle), then friction: cancel the tangential motion
+   relative to the body (x - x_prev) up to friction * the normal correction. Never pulls a point
+   towards the body. */
+void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
+                          int end);
+
+/* Metric: how many of the n points lie more than tol_m inside the body (signed distance with
+   angle-weighted pseudo-normals) and the deepest one (metres, >= 0). Returns 0 or an error. */
+int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,
+                             int *count, float *max_depth_m);
+
+/* Grow the contact cache to max_cloth points (not in the frame loop). 0 or an error. */
+int sim_collider_reserve(sim_collider *c, int max_cloth);
+
+/* Read-only views for tests and the OpenCL backend. */
+typedef struct sim_bvh sim_bvh;
+const sim_bvh *sim_collider_bvh(const sim_collider *c);
+const int32_t *sim_collider_contacts(const sim_collider *c); /* cached triangle per point */
+int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (**v_prev)[4],
+                      const int32_t (**tris)[4], const float (**n)[4]); /* returns nt */
+
+/* ---- Geometry shared by the C reference and its OpenCL twins --------------------------------- */
+
+/* Where the closest point of a triangle lies: its face, one of its vertices, or one of its edges
+   (edge i joins vertex i and vertex (i+1)%3). */
+enum {
+    SIM_REGION_FACE = 0,
+    SIM_REGION_V0,
+    SIM_REGION_V1,
+    SIM_REGION_V2,
+    SIM_REGION_E01,
+    SIM_REGION_E12,
+    SIM_REGION_E20
+};
+
+/* Closest point q on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5), its
+   barycentric coordinates and its region. */
+int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3], const float c[3],
+                            float q[3], float bary[3]);
+
+/* ---- The LBVH (Karras 2012) ------------------------------------------------------------------ */
+
+/* Nodes 0..n-2 are internal (0 is the root), n-1..2n-2 the leaves in Morton order; a child index
+   names a node. Leaf i of the sorted order holds triangle order[i]. With one triangle the root is
+   the leaf (node 0). */
+struct sim_bvh {
+    int n, cap;                 /* leaves (triangles) now, capacity */
+    uint32_t *morton;           /* per sorted leaf */
+    int32_t *order;             /* sorted leaf -> triangle */
+    int32_t (*child)[2];        /* per internal node */
+    int32_t *parent;            /* per node, -1 at the root */
+    float (*lo)[4], (*hi)[4];   /* static boxes (frame k, inflated by thickness), per node */
+    float (*slo)[4], (*shi)[4]; /* swept boxes (k-1 with k, inflated), per node */
+    int *counter;               /* per internal node, for the bottom-up refit */
+    uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
+};
+
+int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
+void sim_bvh_free(sim_bvh *b);
+/* Topology: Morton codes of the centroids of frame k inside the body's box, radix sort, hierarchy
+   from the longest common prefix. Then a refit. */
+void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                   const int32_t (*tris)[4], int nt, float pad_m);
+/* Leaf boxes from the triangles, then bottom-up through parent links, the second child to arrive
+   at a node (atomic counter) computing its box. */
+void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                   const int32_t (*tris)[4], float pad_m);
+
+/* 30-bit Morton code of a point given in [0,1]^3 (10 bits per axis, clamped). */
+uint32_t sim_morton3(float x, float y, float z);
+
+/* Nearest triangle to p within radius_m (closest point distance); -1 when none. q and bary: the
+   closest point and its barycentrics. Ties keep the lower triangle index. */
+int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                    const float p[3], float radius_m, float q[3], float bary[3], float *dist_m);
+
+/* Triangles whose leaf box (static, or swept when swept != 0) contains p, up to max_out of them
+   written to out; returns how many contain p (which may exceed max_out). */
+int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *out, int max_out);
+
+#endif
