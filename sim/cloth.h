@@ -1,0 +1,125 @@
+/* Private to sim/: the cloth state layout both backends share (STYLE.md 3), the backend table,
+ * and the C twins of the solver kernels. Layout rule: fields are only ever added, never renamed.
+ */
+#ifndef TRYON_SIM_CLOTH_H
+#define TRYON_SIM_CLOTH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "collide.h"
+#include "sim.h"
+
+typedef enum sim_spring_kind {
+    SIM_SPRING_STRETCH = 0,
+    SIM_SPRING_SHEAR = 1,
+    SIM_SPRING_BEND = 2,
+    SIM_SPRING_KINDS
+} sim_spring_kind;
+
+/* The cloth, structure of arrays of float. Springs are sorted by graph colour: no two springs
+ * of one colour share a vertex, so a colour is processed in parallel without write conflicts
+ * (C: OpenMP over a colour; OpenCL: one launch per colour). */
+typedef struct sim_cloth {
+    int nv, nt, ns;
+    float (*x)[4];      /* xyz, w = inverse mass (0 = pinned or attached) */
+    float (*x_prev)[4]; /* previous step, same layout; velocity = (x - x_prev) / dt */
+    float (*x_rest)[4]; /* the garment as given */
+    int32_t (*tris)[4]; /* w unused */
+    int32_t (*ends)[2]; /* spring end vertices */
+    float *rest;        /* spring rest length, m */
+    uint8_t *kind;      /* sim_spring_kind */
+    int num_colors;
+    int32_t *color_start;      /* colour c holds springs [color_start[c], color_start[c + 1]) */
+    float k[SIM_SPRING_KINDS]; /* stiffness per kind, N/m (after any clamp the solver needs) */
+    int num_attachments;
+    sim_attachment *attachments;
+} sim_cloth;
+
+/* The body as the driver keeps it: frame k and k-1. */
+typedef struct sim_body {
+    int nv, nt;
+    int have_prev; /* 0 on the first frame and after a topology change */
+    float (*v)[4];
+    float (*v_prev)[4];
+    int32_t (*tris)[4];
+    float (*n)[4]; /* face normals of frame k */
+} sim_body;
+
+struct sim;
+
+/* A backend is a table of functions, like LCM's providers. The driver (sim.c) owns the host
+ * state, the host collider (metrics, recovery) and the timing; a backend runs the per-frame
+ * work and leaves the result in s->cloth.x / x_prev on the host. */
+typedef struct sim_backend_ops {
+    const char *name; /* "c", "opencl" */
+    /* Allocate the backend's state for s (cloth and body sizes are final). */
+    int (*create)(struct sim *s, void **state, char *err, size_t err_size);
+    void (*destroy)(void *state);
+    /* One body frame: s->body holds frames k and k-1, s->collider has been given frame k. Run
+     * feature points, contacts and `iterations` Verlet steps of frame_dt / iterations, filling
+     * the ms_* of st it measures and st->feature_points_moved. Returns 0 or -SIM_ERR_x. */
+    int (*frame)(void *state, struct sim *s, int iterations, sim_frame_stats *st);
+    /* The host state was restored after a divergence: make the device copy match it. */
+    int (*upload)(void *state, const struct sim *s);
+    const char *(*device_name)(const void *state);
+} sim_backend_ops;
+
+extern const sim_backend_ops sim_backend_c;
+#ifdef SIM_HAVE_OPENCL
+extern const sim_backend_ops sim_backend_opencl;
+#endif
+
+struct sim {
+    sim_desc desc;
+    sim_cloth cloth;
+    sim_body body;
+    sim_collider *collider;
+    const sim_backend_ops *ops;
+    void *backend;
+    float (*x_good)[4]; /* last published (good) state, restored on divergence */
+    float (*x_prev_good)[4];
+    float *scratch;    /* ns floats: strains for the percentile */
+    int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
+    long frame;        /* body frames stepped */
+    float energy_good; /* kinetic energy per kg of the last good frame, J/kg */
+};
+
+/* Solver constants and the reasons for them. */
+#define SIM_PEN_TOL_M      0.001f /* ARCHITECTURE.md: penetrating = more than 1 mm inside */
+#define SIM_PROVOT_TAU     0.10f  /* Provot 1995: springs corrected past 10 % elongation */
+#define SIM_DIVERGE_STRAIN 0.5f   /* 50 % stretch is no fabric: the step blew up */
+#define SIM_DIVERGE_SPEED  50.0f  /* m/s; no garment point moves that fast on a person */
+#define SIM_MAX_RETRIES    2      /* each retry doubles the iterations */
+#define SIM_CONTACT_MARGIN 0.02f  /* tryon: contacts cached with this reach beyond thickness */
+
+/* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
+ * [begin, end) are vertices or springs; callers split them over threads. */
+/* Verlet: x' = x + (x - x_prev) * keep + a dt^2; pinned points (w = 0) stay. */
+void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
+                const float accel_dt2[3]);
+/* seed: f = k dl along the spring plus relative-velocity damping, accumulated into acc dt^2. */
+void sim_spring_forces(const float (*x)[4], const float (*x_prev)[4], const int32_t (*ends)[2],
+                       const float *rest, const uint8_t *kind, const float k[SIM_SPRING_KINDS],
+                       int begin, int end, float dt, float damp_ratio, float (*acc_dt2)[4]);
+void sim_verlet_forces(float (*x)[4], float (*x_prev)[4], const float (*acc_dt2)[4], int begin,
+                       int end, float keep, const float g_dt2[3]);
+/* seed: Provot position correction of springs stretched past tau. */
+void sim_provot_correct(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                        const uint8_t *kind, int begin, int end, float tau);
+/* tryon: XPBD distance constraint, one Gauss-Seidel pass over springs of one colour. alpha =
+ * compliance / dt^2 per kind. */
+void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                         const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int begin,
+                         int end);
+/* tryon: clamp stretch springs to rest * (1 + limit). */
+void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                      const uint8_t *kind, int begin, int end, float limit);
+
+/* Cloth construction (cloth.c). */
+int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_reject *why);
+void sim_cloth_free(sim_cloth *c);
+/* Metrics (metrics.c): stretch strain max and p99; scratch holds ns floats. */
+void sim_strain_stats(const sim_cloth *c, float *scratch, float *max_strain, float *p99_strain);
+
+#endif

@@ -1,0 +1,165 @@
+/* sim: cloth on a moving body. A mass-spring garment is carried by the body (seed 000 feature
+ * points) and relaxed by a few Verlet iterations with collision per body frame.
+ *
+ * Frame: world, metres, y up. Units SI. One sim simulates one garment; the caller owns every
+ * array it passes in and may free it as soon as the call returns. */
+#ifndef TRYON_SIM_H
+#define TRYON_SIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Why something was refused. One list makes the enum and the words (STYLE.md 11). */
+#define SIM_ERROR_LIST(X)                                                                          \
+    X(SIM_OK, "ok")                                                                                \
+    X(SIM_ERR_ARG, "bad argument")                                                                 \
+    X(SIM_ERR_NO_MEMORY, "out of memory")                                                          \
+    X(SIM_ERR_EMPTY, "mesh has no vertices or no triangles")                                       \
+    X(SIM_ERR_TOO_LARGE, "mesh larger than the configured maximum")                                \
+    X(SIM_ERR_NOT_FINITE, "coordinate is NaN or infinite")                                         \
+    X(SIM_ERR_INDEX, "triangle index out of range")                                                \
+    X(SIM_ERR_DEGENERATE, "degenerate triangle (repeated vertex or zero area)")                    \
+    X(SIM_ERR_MASS, "vertex mass not positive and finite")                                         \
+    X(SIM_ERR_ATTACHMENT, "attachment refers to a missing vertex or body triangle")                \
+    X(SIM_ERR_PARAM, "parameter out of range")                                                     \
+    X(SIM_ERR_TOPOLOGY, "body topology differs from the garment's body")                           \
+    X(SIM_ERR_BACKEND, "backend unavailable or failed")                                            \
+    X(SIM_ERR_DIVERGED, "simulation diverged and could not recover")                               \
+    X(SIM_ERR_FILE, "cannot read or parse the garment file")
+
+#define SIM_ERROR_ENUM(id, text) id,
+typedef enum sim_error { SIM_ERROR_LIST(SIM_ERROR_ENUM) SIM_ERROR_COUNT } sim_error;
+#undef SIM_ERROR_ENUM
+/* Errors are returned negated: a function returns 0 or -SIM_ERR_x. */
+const char *sim_error_name(int e); /* "SIM_ERR_INDEX"; accepts e or -e */
+const char *sim_error_text(int e); /* "triangle index out of range" */
+
+typedef struct sim_reject {
+    sim_error code;
+    char detail[160]; /* where: "garment triangle 12: index 99 >= 42 vertices" */
+} sim_reject;
+
+typedef enum sim_backend { SIM_BACKEND_C = 0, SIM_BACKEND_OPENCL = 1 } sim_backend;
+
+/* seed: seed 000 as published (force springs, Verlet, Provot correction, BVH rebuilt and
+ * contacts searched every iteration). tryon: distance constraints projected by colour-batched
+ * Gauss-Seidel in small steps, strain limiting, BVH refit, contacts cached per frame. */
+typedef enum sim_solver { SIM_SOLVER_TRYON = 0, SIM_SOLVER_SEED = 1 } sim_solver;
+
+/* Fabric. Stiffness is the membrane stiffness in N/m (force per unit width per unit strain);
+ * on a square grid a spring of any length carries exactly this constant, so a fabric keeps its
+ * behaviour when the mesh is refined. */
+typedef struct sim_fabric {
+    float density_kg_m2; /* 0 = 0.2 (cotton shirting) */
+    float stretch_n_m;   /* 0 = 1000 */
+    float shear_n_m;     /* 0 = 100 */
+    float bend_n_m;      /* 0 = 2 */
+} sim_fabric;
+
+typedef struct sim_desc {
+    sim_backend backend;
+    sim_solver solver;
+    int iterations;     /* Verlet steps per body frame; 0 = 25 */
+    float frame_dt_s;   /* 0 = 1/30 */
+    sim_fabric fabric;  /* zeros = defaults */
+    float damping;      /* fraction of velocity lost per second; 0 = 0.5; < 0 = none */
+    float thickness_m;  /* cloth kept this far outside the body; 0 = 0.004 */
+    float friction;     /* Coulomb coefficient against the body; 0 = 0.3; < 0 = none */
+    float gravity_m_s2; /* downward; 0 = 9.81; < 0 = none */
+    float strain_limit; /* tryon solver: stretch springs clamped to rest * (1 + this); 0 = 0.01 */
+    int max_body_vertices;  /* 0 = 100000 */
+    int max_body_triangles; /* 0 = 200000 */
+} sim_desc;
+
+sim_desc sim_default_desc(void); /* every field filled with its default */
+
+typedef enum sim_state {
+    SIM_STATE_OK = 0,
+    SIM_STATE_RECOVERED = 1,
+    SIM_STATE_DIVERGED = 2
+} sim_state;
+const char *sim_state_name(sim_state s);
+
+/* What one body frame cost and produced. Times in ms of wall clock. */
+typedef struct sim_frame_stats {
+    float max_strain; /* stretch springs: (|xi - xj| - rest) / rest, max */
+    float p99_strain;
+    int penetrating;  /* cloth vertices more than 1 mm inside the body */
+    float max_pen_mm; /* deepest of them */
+    int feature_points_moved;
+    sim_state state;
+    int retries;         /* recovery attempts this frame */
+    int iterations_used; /* more than asked when recovering */
+    float ms_total;
+    float ms_bvh;
+    float ms_feature_points;
+    float ms_contacts;
+    float ms_iterations;
+    float ms_metrics;
+} sim_frame_stats;
+
+/* A cloth vertex glued to a body triangle: x = b0 v0 + b1 v1 + b2 v2 + offset * n. */
+typedef struct sim_attachment {
+    int32_t vertex;
+    int32_t body_triangle;
+    float bary[3];
+    float offset_m;
+} sim_attachment;
+
+/* A garment: a triangle mesh with masses. grid_w * grid_h = num_vertices (row-major) when the
+ * mesh is a grid; then shear springs cross each quad and bend springs skip one vertex. Otherwise
+ * (grid_w = 0) shear is omitted and bend joins the opposite vertices of adjacent triangles. */
+typedef struct sim_garment {
+    char id[64];
+    int num_vertices;
+    float *xyz;     /* [num_vertices][3] */
+    float *mass_kg; /* [num_vertices]; NULL = lumped from the fabric density and triangle area */
+    int num_triangles;
+    int32_t *triangles; /* [num_triangles][3] */
+    int grid_w, grid_h;
+    int num_attachments;
+    sim_attachment *attachments;
+} sim_garment;
+
+/* The drape sheet: side_m square, n_vertices (rounded to a square grid), flat at height y_m,
+ * centred on x = z = 0. */
+int sim_garment_drape(int n_vertices, float side_m, float y_m, sim_garment *out);
+/* A shirt around a body mesh: the torso and upper arms offset outward by offset_m (0 = 0.015),
+ * resting on the shoulders, resampled to about n_vertices. joints_xyz: FIT_JOINT_COUNT * 3 (the
+ * bodyfit joints, used to choose the region); NULL = the region is guessed from the bounding
+ * box. */
+int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+                      const float *joints_xyz, int n_vertices, float offset_m, sim_garment *out,
+                      sim_reject *why);
+void sim_garment_free(sim_garment *g); /* frees the arrays; the struct itself is the caller's */
+/* Checks sizes, finiteness, indices, degenerate triangles, masses and attachments. */
+int sim_garment_validate(const sim_garment *g, int body_nt, sim_reject *why);
+/* Body check used by sim_step: finite, indices in range, no repeated vertex in a triangle. */
+int sim_body_validate(const float *xyz, int nv, const int32_t *tris, int nt, sim_reject *why);
+/* Wavefront OBJ ('v', 'f' lines; grid size from a "# grid W H" comment). */
+int sim_garment_load_obj(const char *path, sim_garment *out, sim_reject *why);
+int sim_garment_save_obj(const sim_garment *g, const char *path);
+
+typedef struct sim sim;
+/* Copies the garment. Returns NULL with why filled when it is rejected. */
+sim *sim_create(const sim_desc *desc, const sim_garment *garment, sim_reject *why);
+void sim_destroy(sim *s);
+
+/* One body frame (same topology every frame; a change restarts the sweep). Returns 0 or a
+ * negative sim_error; the published positions are never NaN: on failure they stay those of the
+ * last good frame. */
+int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+             sim_frame_stats *stats, sim_reject *why);
+
+int sim_vertex_count(const sim *s);
+int sim_triangle_count(const sim *s);
+const float *sim_positions(const sim *s);          /* [vertex][4]: xyz, w = inverse mass */
+void sim_copy_positions(const sim *s, float *xyz); /* [vertex][3] */
+const int32_t *sim_triangles(const sim *s);        /* [triangle][3] */
+const char *sim_device_name(const sim *s); /* "C reference (2 threads)", the OpenCL device */
+const sim_desc *sim_get_desc(const sim *s);
+
+/* Test hook: overwrite one vertex (to inject NaN or a far jump). */
+void sim_debug_set_vertex(sim *s, int i, float x, float y, float z);
+
+#endif
