@@ -1,0 +1,116 @@
+/* bodyfit: the parametric human body, its scripted motions, and (later) fitting it to depth.
+ *
+ * Frame: world, metres, y up, floor at y = 0; in the rest pose the body stands at x = z = 0
+ * facing +z (towards the camera), arms slightly lowered (A-pose). */
+#ifndef TRYON_BODYFIT_H
+#define TRYON_BODYFIT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* The skeleton. Each joint rotates about its own centre, relative to its parent. */
+#define FIT_JOINT_LIST(X)                                                                          \
+    X(FIT_PELVIS, "pelvis", -1)                                                                    \
+    X(FIT_SPINE, "spine", FIT_PELVIS)                                                              \
+    X(FIT_CHEST, "chest", FIT_SPINE)                                                               \
+    X(FIT_NECK, "neck", FIT_CHEST)                                                                 \
+    X(FIT_HEAD, "head", FIT_NECK)                                                                  \
+    X(FIT_L_CLAVICLE, "l_clavicle", FIT_CHEST)                                                     \
+    X(FIT_L_SHOULDER, "l_shoulder", FIT_L_CLAVICLE)                                                \
+    X(FIT_L_ELBOW, "l_elbow", FIT_L_SHOULDER)                                                      \
+    X(FIT_L_WRIST, "l_wrist", FIT_L_ELBOW)                                                         \
+    X(FIT_R_CLAVICLE, "r_clavicle", FIT_CHEST)                                                     \
+    X(FIT_R_SHOULDER, "r_shoulder", FIT_R_CLAVICLE)                                                \
+    X(FIT_R_ELBOW, "r_elbow", FIT_R_SHOULDER)                                                      \
+    X(FIT_R_WRIST, "r_wrist", FIT_R_ELBOW)                                                         \
+    X(FIT_L_HIP, "l_hip", FIT_PELVIS)                                                              \
+    X(FIT_L_KNEE, "l_knee", FIT_L_HIP)                                                             \
+    X(FIT_L_ANKLE, "l_ankle", FIT_L_KNEE)                                                          \
+    X(FIT_L_TOE, "l_toe", FIT_L_ANKLE)                                                             \
+    X(FIT_R_HIP, "r_hip", FIT_PELVIS)                                                              \
+    X(FIT_R_KNEE, "r_knee", FIT_R_HIP)                                                             \
+    X(FIT_R_ANKLE, "r_ankle", FIT_R_KNEE)                                                          \
+    X(FIT_R_TOE, "r_toe", FIT_R_ANKLE)
+
+#define FIT_JOINT_ENUM(id, name, parent) id,
+typedef enum fit_joint { FIT_JOINT_LIST(FIT_JOINT_ENUM) FIT_JOINT_COUNT } fit_joint;
+#undef FIT_JOINT_ENUM
+
+const char *fit_joint_name(fit_joint j);
+int fit_joint_parent(fit_joint j); /* -1 for the root */
+
+/* Shape: what a depth camera can constrain. Metres. */
+typedef struct fit_shape {
+    float height;         /* floor to top of head */
+    float shoulder_width; /* between the shoulder joint centres */
+    float chest_girth;
+    float waist_girth;
+    float hip_girth;
+    float arm_length; /* shoulder joint to wrist joint */
+    float arm_girth;  /* upper arm, largest */
+    float leg_length; /* hip joint to ankle joint */
+    float leg_girth;  /* thigh, largest */
+} fit_shape;
+#define FIT_SHAPE_PARAMS 9
+
+fit_shape fit_shape_default(void); /* an average adult */
+#define FIT_SHAPE_PRESETS 3
+fit_shape fit_shape_preset(int i);  /* 0 = average, 1 = slim tall, 2 = broad short */
+const char *fit_shape_preset_name(int i);
+void fit_shape_to_array(const fit_shape *s, float out[FIT_SHAPE_PARAMS]);
+fit_shape fit_shape_from_array(const float in[FIT_SHAPE_PARAMS]);
+
+/* Pose: root translation plus one axis-angle rotation (radians) per joint, local to its parent.
+ * Zero rotations = the rest pose. */
+typedef struct fit_pose {
+    float root[3];
+    float rot[FIT_JOINT_COUNT][3];
+} fit_pose;
+#define FIT_POSE_PARAMS (3 + 3 * FIT_JOINT_COUNT)
+
+/* Clamp every joint rotation into its limits. Returns how many joints were clamped. */
+int fit_pose_clamp(fit_pose *pose);
+
+/* The model: a closed manifold triangle mesh generated from a shape, with skinning weights. */
+typedef struct fit_model fit_model;
+typedef struct fit_model_desc {
+    fit_shape shape;
+    int target_vertices; /* 0 = 10000; the mesh has about this many vertices (6K..15K sensible) */
+} fit_model_desc;
+
+fit_model *fit_model_create(const fit_model_desc *desc, char *err, size_t errlen);
+void fit_model_destroy(fit_model *m);
+
+int fit_model_vertex_count(const fit_model *m);
+int fit_model_triangle_count(const fit_model *m);
+const int32_t *fit_model_triangles(const fit_model *m);  /* [triangle][3], counter-clockwise seen
+                                                           from outside */
+const float *fit_model_rest_vertices(const fit_model *m); /* [vertex][3] */
+const fit_shape *fit_model_shape(const fit_model *m);
+
+/* Linear-blend skinning. vertices_out: vertex_count * 3 floats; joints_out (may be NULL):
+ * FIT_JOINT_COUNT * 3 floats, world joint centres. Deterministic; no allocation. */
+int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out,
+                   float *joints_out);
+
+int fit_model_write_obj(const fit_model *m, const float *vertices, const char *path);
+
+/* Scripted motions, for recordings and the simulation benchmarks. */
+#define FIT_MOTION_LIST(X)                                                                         \
+    X(FIT_MOTION_STILL, "still")                                                                   \
+    X(FIT_MOTION_ARM_RAISE, "arm_raise")                                                           \
+    X(FIT_MOTION_TURN, "turn")                                                                     \
+    X(FIT_MOTION_WALK, "walk")                                                                     \
+    X(FIT_MOTION_FAST_SWING, "fast_swing") /* wrist speed >= 3 m/s */                              \
+    X(FIT_MOTION_ENTER_LEAVE, "enter_leave")
+
+#define FIT_MOTION_ENUM(id, name) id,
+typedef enum fit_motion { FIT_MOTION_LIST(FIT_MOTION_ENUM) FIT_MOTION_COUNT } fit_motion;
+#undef FIT_MOTION_ENUM
+
+const char *fit_motion_name(fit_motion m);
+int fit_motion_from_name(const char *name); /* -1 if unknown */
+double fit_motion_duration(fit_motion m);   /* seconds; motions loop after this */
+void fit_motion_eval(fit_motion m, double t_s, fit_pose *out);
+
+#endif

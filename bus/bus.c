@@ -1,0 +1,72 @@
+/* Opening LCM, channel names and clocks. */
+#include "bus.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+int bus_channel(const char *base, char *out, size_t out_size)
+{
+    const char *prefix = getenv("TRYON_CHANNEL_PREFIX");
+    int n = snprintf(out, out_size, "%s%s", prefix ? prefix : "", base);
+    return (n < 0 || (size_t)n >= out_size) ? -1 : 0;
+}
+
+const char *bus_default_url(void)
+{
+    const char *url = getenv("TRYON_LCM_URL");
+    return (url && url[0]) ? url : BUS_DEFAULT_URL;
+}
+
+lcm_t *bus_open(const char *url, char *err, size_t err_size)
+{
+    if (!url)
+        url = bus_default_url();
+    lcm_t *lcm = lcm_create(url);
+    if (lcm)
+        return lcm;
+    if (strncmp(url, "udpm://", 7) == 0) {
+        /* lcm_create fails for udpm when the kernel has no route for the multicast group. */
+        snprintf(err, err_size,
+                 "cannot open LCM at %s: multicast is not routable on this machine. Fix: "
+                 "'sudo ip route add 224.0.0.0/4 dev lo' (loopback only; see docs/bus.md), "
+                 "or set TRYON_LCM_URL to another provider",
+                 url);
+    } else {
+        snprintf(err, err_size, "cannot open LCM at %s: lcm_create failed (bad URL?)", url);
+    }
+    return NULL;
+}
+
+static int64_t clock_us(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+int64_t bus_now_mono_us(void)
+{
+    return clock_us(CLOCK_MONOTONIC);
+}
+
+int64_t bus_now_wall_us(void)
+{
+    return clock_us(CLOCK_REALTIME);
+}
+
+#define BUS_ERROR_NAME(id, text) #id,
+#define BUS_ERROR_TEXT(id, text) text,
+static const char *const error_names[] = {BUS_ERROR_LIST(BUS_ERROR_NAME)};
+static const char *const error_texts[] = {BUS_ERROR_LIST(BUS_ERROR_TEXT)};
+
+const char *bus_error_name(bus_error e)
+{
+    return (e >= 0 && e < BUS_ERROR_COUNT) ? error_names[e] : "BUS_ERR_UNKNOWN";
+}
+
+const char *bus_error_text(bus_error e)
+{
+    return (e >= 0 && e < BUS_ERROR_COUNT) ? error_texts[e] : "unknown error";
+}

@@ -1,0 +1,166 @@
+/* Checking the contents of decoded messages: dimensions, counts, index ranges, finite floats. */
+#include "bus_private.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Every float must be finite; coordinates also within BUS_MAX_COORD_M of the origin. */
+static bus_error check_floats(const float *v, int64_t n, float limit, const char *name, int stride,
+                              bus_reject *why)
+{
+    for (int64_t i = 0; i < n; i++) {
+        if (!isfinite(v[i]))
+            return bus_reject_set(why, BUS_ERR_NOT_FINITE, "%s[%lld][%d] = %g", name,
+                                  (long long)(i / stride), (int)(i % stride), (double)v[i]);
+        if (limit > 0 && fabsf(v[i]) > limit)
+            return bus_reject_set(why, BUS_ERR_RANGE, "%s[%lld][%d] = %g m (|x| <= %g)", name,
+                                  (long long)(i / stride), (int)(i % stride), (double)v[i],
+                                  (double)limit);
+    }
+    return BUS_OK;
+}
+
+static bus_error check_count(int32_t n, int64_t max, const char *name, bus_reject *why)
+{
+    if (n < 0 || n > max)
+        return bus_reject_set(why, BUS_ERR_COUNT, "%s = %d (0..%lld)", name, (int)n,
+                              (long long)max);
+    return BUS_OK;
+}
+
+static bus_error check_mesh(int32_t nv, const float (*v)[3], int32_t nt, const int32_t (*t)[3],
+                            bus_reject *why)
+{
+    bus_error e = check_count(nv, BUS_MAX_VERTICES, "num_vertices", why);
+    if (e == BUS_OK)
+        e = check_count(nt, BUS_MAX_TRIANGLES, "num_triangles", why);
+    if (e == BUS_OK && nv > 0)
+        e = check_floats(&v[0][0], (int64_t)nv * 3, BUS_MAX_COORD_M, "vertices", 3, why);
+    if (e != BUS_OK)
+        return e;
+    for (int32_t i = 0; i < nt; i++)
+        for (int k = 0; k < 3; k++)
+            if (t[i][k] < 0 || t[i][k] >= nv)
+                return bus_reject_set(why, BUS_ERR_INDEX, "triangles[%d][%d] = %d, %d vertices",
+                                      (int)i, k, (int)t[i][k], (int)nv);
+    return BUS_OK;
+}
+
+static bus_error check_string(const char *s, const char *name, bus_reject *why)
+{
+    if (!s || strnlen(s, BUS_MAX_STRING) >= BUS_MAX_STRING)
+        return bus_reject_set(why, BUS_ERR_STRING, "%s missing or longer than %d", name,
+                              BUS_MAX_STRING - 1);
+    return BUS_OK;
+}
+
+static bus_error validate_depth_frame(const tryon_depth_frame_t *m, bus_reject *why)
+{
+    bus_error se = check_string(m->source, "source", why);
+    if (se != BUS_OK)
+        return se;
+    if (m->width < 1 || m->width > BUS_MAX_IMAGE_SIDE || m->height < 1 ||
+        m->height > BUS_MAX_IMAGE_SIDE)
+        return bus_reject_set(why, BUS_ERR_DIMENSIONS, "%d x %d (1..%d each)", (int)m->width,
+                              (int)m->height, BUS_MAX_IMAGE_SIDE);
+    if (m->encoding != TRYON_DEPTH_FRAME_T_ENCODING_U16)
+        return bus_reject_set(why, BUS_ERR_ENCODING, "encoding %d", (int)m->encoding);
+    int64_t expect = (int64_t)m->width * m->height * 2;
+    if (m->num_bytes != expect || (expect > 0 && !m->data))
+        return bus_reject_set(why, BUS_ERR_DATA_SIZE, "num_bytes %d, %d x %d x 2 = %lld",
+                              (int)m->num_bytes, (int)m->width, (int)m->height, (long long)expect);
+    const float intr[5] = {m->fx, m->fy, m->cx, m->cy, m->metres_per_unit};
+    bus_error e = check_floats(intr, 5, 0, "fx,fy,cx,cy,metres_per_unit", 5, why);
+    if (e == BUS_OK)
+        e = check_floats(m->camera_to_world, 16, BUS_MAX_COORD_M, "camera_to_world", 16, why);
+    if (e != BUS_OK)
+        return e;
+    if (!(m->fx > 0 && m->fy > 0 && m->metres_per_unit > 0))
+        return bus_reject_set(why, BUS_ERR_RANGE, "fx %g, fy %g, metres_per_unit %g must be > 0",
+                              (double)m->fx, (double)m->fy, (double)m->metres_per_unit);
+    return BUS_OK;
+}
+
+static bus_error validate_body(const tryon_body_t *m, bus_reject *why)
+{
+    if (m->state < TRYON_BODY_T_STATE_INIT || m->state > TRYON_BODY_T_STATE_LOST)
+        return bus_reject_set(why, BUS_ERR_RANGE, "state %d", (int)m->state);
+    bus_error e = check_count(m->num_shape, BUS_MAX_PARAMS, "num_shape", why);
+    if (e == BUS_OK)
+        e = check_count(m->num_pose, BUS_MAX_PARAMS, "num_pose", why);
+    if (e == BUS_OK)
+        e = check_count(m->num_joints, BUS_MAX_PARAMS, "num_joints", why);
+    if (e == BUS_OK)
+        e = check_floats(&m->fit_residual_mm, 1, 0, "fit_residual_mm", 1, why);
+    if (e == BUS_OK)
+        e = check_floats(m->shape, m->num_shape, BUS_MAX_COORD_M, "shape", 1, why);
+    if (e == BUS_OK)
+        e = check_floats(m->pose, m->num_pose, BUS_MAX_COORD_M, "pose", 1, why);
+    if (e == BUS_OK && m->num_joints > 0)
+        e = check_floats(&m->joints[0][0], (int64_t)m->num_joints * 3, BUS_MAX_COORD_M, "joints", 3,
+                         why);
+    if (e != BUS_OK)
+        return e;
+    return check_mesh(m->num_vertices, (const float(*)[3])m->vertices, m->num_triangles,
+                      (const int32_t(*)[3])m->triangles, why);
+}
+
+static bus_error validate_cloth(const tryon_cloth_t *m, bus_reject *why)
+{
+    bus_error se = check_string(m->garment_id, "garment_id", why);
+    if (se != BUS_OK)
+        return se;
+    if (m->state < TRYON_CLOTH_T_STATE_OK || m->state > TRYON_CLOTH_T_STATE_SETTLING)
+        return bus_reject_set(why, BUS_ERR_RANGE, "state %d", (int)m->state);
+    const float f[3] = {m->max_strain, m->p99_strain, m->max_pen_mm};
+    bus_error e = check_floats(f, 3, 0, "max_strain,p99_strain,max_pen_mm", 3, why);
+    if (e != BUS_OK)
+        return e;
+    if (m->penetrating < 0 || m->penetrating > m->num_vertices)
+        return bus_reject_set(why, BUS_ERR_RANGE, "penetrating %d of %d vertices",
+                              (int)m->penetrating, (int)m->num_vertices);
+    return check_mesh(m->num_vertices, (const float(*)[3])m->vertices, m->num_triangles,
+                      (const int32_t(*)[3])m->triangles, why);
+}
+
+static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)
+{
+    bus_error se = check_string(m->stage, "stage", why);
+    if (se != BUS_OK)
+        return se;
+    if (m->stage[0] == 0)
+        return bus_reject_set(why, BUS_ERR_STRING, "stage is empty");
+    bus_error e = check_count(m->num_substages, BUS_MAX_SUBSTAGES, "num_substages", why);
+    if (e != BUS_OK)
+        return e;
+    for (int i = 0; i < m->num_substages; i++) {
+        se = check_string(m->substage[i], "substage", why);
+        if (se != BUS_OK)
+            return se;
+    }
+    e = check_floats(m->substage_ms, m->num_substages, 0, "substage_ms", 1, why);
+    if (e != BUS_OK)
+        return e;
+    if (m->utime_finished < m->utime_started)
+        return bus_reject_set(why, BUS_ERR_RANGE, "finished %lld before started %lld",
+                              (long long)m->utime_finished, (long long)m->utime_started);
+    return BUS_OK;
+}
+
+bus_error bus_validate(bus_type t, const void *msg, bus_reject *why)
+{
+    if (why)
+        *why = (bus_reject){.code = BUS_OK};
+    switch (t) {
+    case BUS_DEPTH_FRAME:
+        return validate_depth_frame(msg, why);
+    case BUS_BODY:
+        return validate_body(msg, why);
+    case BUS_CLOTH:
+        return validate_cloth(msg, why);
+    case BUS_TIMING:
+        return validate_timing(msg, why);
+    default:
+        return bus_reject_set(why, BUS_ERR_TYPE, "type %d", (int)t);
+    }
+}
