@@ -58,7 +58,7 @@ void sim_collider_destroy(sim_collider *c); /* accepts NULL */
    refit (or build, when the topology is new) the tree over frame k and the swept boxes k-1 -> k.
    Returns 0, or a negative sim_collide_error: a rejected body (NaN, index out of range,
    degenerate, empty, too big) leaves the collider as it was; SIM_COLLIDE_ETOPOLOGY means the body
-   was accepted with a new topology and this frame has no sweep (feature points do nothing). */
+   was accepted with a new topology (not said for the first body) and this frame has no sweep. */
 int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt);
 
 /* Seed 000 section 2.1, Eq. 1-2: carry cloth points swept by the body with their triangle.
@@ -152,5 +152,29 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
 /* Triangles whose leaf box (static, or swept when swept != 0) contains p, up to max_out of them
    written to out; returns how many contain p (which may exceed max_out). */
 int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *out, int max_out);
+
+/* ---- The collider's state (private to sim/: collide.c, feature_points.c, cl_backend.c) ------ */
+
+struct sim_collider {
+    sim_collider_desc d; /* defaults filled in */
+    int nv, nt;          /* body now; 0 before the first body */
+    int have_prev;       /* frame k-1 has the topology of frame k (a sweep exists) */
+    float (*v)[4], (*v_prev)[4];
+    int32_t (*tris)[4];
+    float (*n)[4], (*n_prev)[4]; /* unit face normals, frames k and k-1 */
+    int32_t (*nbr)[4];           /* triangle across edge i (i to i+1), -1 on an open edge */
+    int32_t *vt_start, *vt_list; /* vertex -> incident triangles (CSR) for pseudo-normals */
+    void *edge_scratch;          /* topology build only */
+    sim_bvh bvh;
+    int32_t *contact; /* cached triangle per cloth point, -1 = none */
+    int max_cloth;
+};
+
+/* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a
+   SIM_REGION_* (not normalised: only its direction is used). */
+void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3]);
+
+/* Signed distance of p to the body through triangle t (its closest point and pseudo-normal). */
+float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3]);
 
 #endif

@@ -1,0 +1,349 @@
+/* The body LBVH (Karras 2012, "Maximizing parallelism in the construction of BVHs, octrees and
+ * k-d trees"): Morton codes of triangle centroids, a radix sort, every internal node found on its
+ * own from the longest common prefix of the sorted codes, boxes bottom-up. Built once per body
+ * topology; per frame only sim_bvh_refit runs. Twin: kernels/bvh.cl. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "collide.h"
+
+/* Depth bound of an LBVH over 30-bit codes extended by a 32-bit index: each level lengthens the
+   common prefix by at least one bit. */
+#define BVH_STACK 96
+
+int sim_bvh_init(sim_bvh *b, int max_triangles)
+{
+    memset(b, 0, sizeof *b);
+    if (max_triangles < 1)
+        max_triangles = 1;
+    size_t n = (size_t)max_triangles, nodes = 2 * n - 1;
+    b->cap = max_triangles;
+    b->morton = malloc(n * sizeof *b->morton);
+    b->order = malloc(n * sizeof *b->order);
+    b->child = malloc(n * sizeof *b->child);
+    b->parent = malloc(nodes * sizeof *b->parent);
+    b->lo = malloc(nodes * sizeof *b->lo);
+    b->hi = malloc(nodes * sizeof *b->hi);
+    b->slo = malloc(nodes * sizeof *b->slo);
+    b->shi = malloc(nodes * sizeof *b->shi);
+    b->counter = malloc(n * sizeof *b->counter);
+    b->scratch = malloc(4 * n * sizeof *b->scratch);
+    if (!b->morton || !b->order || !b->child || !b->parent || !b->lo || !b->hi || !b->slo ||
+        !b->shi || !b->counter || !b->scratch) {
+        sim_bvh_free(b);
+        return SIM_COLLIDE_ENOMEM;
+    }
+    return 0;
+}
+
+void sim_bvh_free(sim_bvh *b)
+{
+    if (!b)
+        return;
+    free(b->morton);
+    free(b->order);
+    free(b->child);
+    free(b->parent);
+    free(b->lo);
+    free(b->hi);
+    free(b->slo);
+    free(b->shi);
+    free(b->counter);
+    free(b->scratch);
+    memset(b, 0, sizeof *b);
+}
+
+/* Spread the low 10 bits of v so two zero bits separate each. */
+static uint32_t expand_bits(uint32_t v)
+{
+    v = (v * 0x00010001u) & 0xFF0000FFu;
+    v = (v * 0x00000101u) & 0x0F00F00Fu;
+    v = (v * 0x00000011u) & 0xC30C30C3u;
+    v = (v * 0x00000005u) & 0x49249249u;
+    return v;
+}
+
+uint32_t sim_morton3(float x, float y, float z)
+{
+    float q[3] = {x * 1024.0f, y * 1024.0f, z * 1024.0f};
+    uint32_t u[3];
+    for (int k = 0; k < 3; k++) {
+        float c = q[k] < 0.0f ? 0.0f : (q[k] > 1023.0f ? 1023.0f : q[k]);
+        u[k] = (uint32_t)c;
+    }
+    return expand_bits(u[0]) * 4 + expand_bits(u[1]) * 2 + expand_bits(u[2]);
+}
+
+/* LSD radix sort of (code, triangle) pairs, 8 bits a pass; stable, so equal codes keep triangle
+   order and the tree is deterministic. */
+static void radix_sort(sim_bvh *b, int n)
+{
+    uint32_t *k0 = b->morton, *v0 = (uint32_t *)b->order;
+    uint32_t *k1 = b->scratch, *v1 = b->scratch + b->cap;
+    for (int shift = 0; shift < 32; shift += 8) {
+        int count[256] = {0};
+        for (int i = 0; i < n; i++)
+            count[(k0[i] >> shift) & 255]++;
+        int sum = 0;
+        for (int d = 0; d < 256; d++) {
+            int c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (int i = 0; i < n; i++) {
+            int at = count[(k0[i] >> shift) & 255]++;
+            k1[at] = k0[i];
+            v1[at] = v0[i];
+        }
+        uint32_t *t = k0;
+        k0 = k1;
+        k1 = t;
+        t = v0;
+        v0 = v1;
+        v1 = t;
+    }
+    /* Four passes: the result is back in morton/order. */
+}
+
+static int clz32(uint32_t x)
+{
+    int n = 0;
+    if (x == 0)
+        return 32;
+    while (!(x & 0x80000000u)) {
+        x <<= 1;
+        n++;
+    }
+    return n;
+}
+
+/* Karras 2012 delta: length of the common prefix of keys i and j, the index breaking ties; -1
+   outside the range. */
+static int delta(const uint32_t *code, int n, int i, int j)
+{
+    if (j < 0 || j >= n)
+        return -1;
+    if (code[i] == code[j])
+        return 32 + clz32((uint32_t)i ^ (uint32_t)j);
+    return clz32(code[i] ^ code[j]);
+}
+
+/* Internal node i of Karras 2012 (Figure 4): its key range and split, children linked. */
+static void build_node(sim_bvh *b, int i)
+{
+    const uint32_t *code = b->morton;
+    int n = b->n;
+    int d = delta(code, n, i, i + 1) - delta(code, n, i, i - 1) >= 0 ? 1 : -1;
+    int dmin = delta(code, n, i, i - d);
+    int lmax = 2;
+    while (delta(code, n, i, i + lmax * d) > dmin)
+        lmax *= 2;
+    int l = 0;
+    for (int t = lmax / 2; t >= 1; t /= 2)
+        if (delta(code, n, i, i + (l + t) * d) > dmin)
+            l += t;
+    int j = i + l * d;
+    int dnode = delta(code, n, i, j);
+    int s = 0;
+    for (int div = 2;; div *= 2) {
+        int t = (l + div - 1) / div;
+        if (delta(code, n, i, i + (s + t) * d) > dnode)
+            s += t;
+        if (t <= 1)
+            break;
+    }
+    int gamma = i + s * d + (d < 0 ? -1 : 0);
+    int lo = i < j ? i : j, hi = i < j ? j : i;
+    int left = lo == gamma ? n - 1 + gamma : gamma;
+    int right = hi == gamma + 1 ? n - 1 + gamma + 1 : gamma + 1;
+    b->child[i][0] = left;
+    b->child[i][1] = right;
+    b->parent[left] = i;
+    b->parent[right] = i;
+}
+
+void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                   const int32_t (*tris)[4], int nt, float pad_m)
+{
+    b->n = nt;
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++) {
+            float c = (v[tris[t][0]][k] + v[tris[t][1]][k] + v[tris[t][2]][k]) / 3.0f;
+            lo[k] = c < lo[k] ? c : lo[k];
+            hi[k] = c > hi[k] ? c : hi[k];
+        }
+    float ext[3];
+    for (int k = 0; k < 3; k++)
+        ext[k] = hi[k] - lo[k] > 1e-12f ? hi[k] - lo[k] : 1.0f;
+    for (int t = 0; t < nt; t++) {
+        float q[3];
+        for (int k = 0; k < 3; k++) {
+            float c = (v[tris[t][0]][k] + v[tris[t][1]][k] + v[tris[t][2]][k]) / 3.0f;
+            q[k] = (c - lo[k]) / ext[k];
+        }
+        b->morton[t] = sim_morton3(q[0], q[1], q[2]);
+        b->order[t] = t;
+    }
+    radix_sort(b, nt);
+    b->parent[0] = -1;
+    if (nt == 1) {
+        b->child[0][0] = b->child[0][1] = 0;
+    } else {
+#pragma omp parallel for schedule(static)
+        for (int i = 0; i < nt - 1; i++)
+            build_node(b, i);
+    }
+    sim_bvh_refit(b, v_prev, v, tris, pad_m);
+}
+
+static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float (*v)[4],
+                     const int32_t (*tris)[4], float pad_m)
+{
+    int node = b->n == 1 ? 0 : b->n - 1 + leaf;
+    const int32_t *t = tris[b->order[leaf]];
+    for (int k = 0; k < 3; k++) {
+        float a = v[t[0]][k], c = v[t[1]][k], e = v[t[2]][k];
+        float lo = fminf(a, fminf(c, e)), hi = fmaxf(a, fmaxf(c, e));
+        b->lo[node][k] = lo - pad_m;
+        b->hi[node][k] = hi + pad_m;
+        a = v_prev[t[0]][k], c = v_prev[t[1]][k], e = v_prev[t[2]][k];
+        b->slo[node][k] = fminf(lo, fminf(a, fminf(c, e))) - pad_m;
+        b->shi[node][k] = fmaxf(hi, fmaxf(a, fmaxf(c, e))) + pad_m;
+    }
+    b->lo[node][3] = b->hi[node][3] = b->slo[node][3] = b->shi[node][3] = 0.0f;
+}
+
+static void merge_box(float (*lo)[4], float (*hi)[4], int node, int l, int r)
+{
+    for (int k = 0; k < 4; k++) {
+        lo[node][k] = fminf(lo[l][k], lo[r][k]);
+        hi[node][k] = fmaxf(hi[l][k], hi[r][k]);
+    }
+}
+
+void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                   const int32_t (*tris)[4], float pad_m)
+{
+    int n = b->n;
+    if (n <= 1) {
+        if (n == 1)
+            leaf_box(b, 0, v_prev, v, tris, pad_m);
+        return;
+    }
+    memset(b->counter, 0, (size_t)(n - 1) * sizeof *b->counter);
+#pragma omp parallel for schedule(static)
+    for (int leaf = 0; leaf < n; leaf++) {
+        leaf_box(b, leaf, v_prev, v, tris, pad_m);
+        /* Karras 2012 section 4: the first child to arrive stops, the second (whose sibling's
+           box is then complete: the seq_cst atomic orders the writes) builds the parent. */
+        for (int node = b->parent[n - 1 + leaf]; node >= 0; node = b->parent[node]) {
+            int seen;
+#pragma omp atomic capture seq_cst
+            seen = b->counter[node]++;
+            if (seen == 0)
+                break;
+            merge_box(b->lo, b->hi, node, b->child[node][0], b->child[node][1]);
+            merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
+        }
+    }
+}
+
+static int leaf_of(const sim_bvh *b, int node)
+{
+    if (b->n == 1)
+        return 0;
+    return node >= b->n - 1 ? node - (b->n - 1) : -1;
+}
+
+static float box_dist2(const float lo[4], const float hi[4], const float p[3])
+{
+    float d2 = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        float e = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0f);
+        d2 += e * e;
+    }
+    return d2;
+}
+
+int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                    const float p[3], float radius_m, float q[3], float bary[3], float *dist_m)
+{
+    int best = -1;
+    float best_d2 = radius_m * radius_m;
+    if (b->n < 1)
+        return -1;
+    int stack[BVH_STACK], top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (box_dist2(b->lo[node], b->hi[node], p) > best_d2)
+            continue;
+        int leaf = leaf_of(b, node);
+        if (leaf >= 0) {
+            int t = b->order[leaf];
+            float cq[3], cb[3];
+            sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
+            float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 < best_d2 || (d2 == best_d2 && (best < 0 || t < best))) {
+                best = t;
+                best_d2 = d2;
+                memcpy(q, cq, sizeof cq);
+                memcpy(bary, cb, sizeof cb);
+            }
+            continue;
+        }
+        int l = b->child[node][0], r = b->child[node][1];
+        float dl = box_dist2(b->lo[l], b->hi[l], p), dr = box_dist2(b->lo[r], b->hi[r], p);
+        if (top + 2 > BVH_STACK)
+            continue; /* cannot happen for trees built here (see BVH_STACK) */
+        /* The nearer child is popped first so best_d2 shrinks early. */
+        if (dl <= dr) {
+            stack[top++] = r;
+            stack[top++] = l;
+        } else {
+            stack[top++] = l;
+            stack[top++] = r;
+        }
+    }
+    if (best >= 0 && dist_m)
+        *dist_m = sqrtf(best_d2);
+    return best;
+}
+
+static int box_contains(const float lo[4], const float hi[4], const float p[3])
+{
+    return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] &&
+           p[2] <= hi[2];
+}
+
+int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *out, int max_out)
+{
+    float(*lo)[4] = swept ? b->slo : b->lo;
+    float(*hi)[4] = swept ? b->shi : b->hi;
+    int found = 0;
+    if (b->n < 1)
+        return 0;
+    int stack[BVH_STACK], top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (!box_contains(lo[node], hi[node], p))
+            continue;
+        int leaf = leaf_of(b, node);
+        if (leaf >= 0) {
+            if (found < max_out)
+                out[found] = b->order[leaf];
+            found++;
+            continue;
+        }
+        if (top + 2 > BVH_STACK)
+            continue;
+        stack[top++] = b->child[node][1];
+        stack[top++] = b->child[node][0];
+    }
+    return found;
+}

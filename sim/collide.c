@@ -1,0 +1,506 @@
+/* The collider: body frames in, contacts cached, points pushed out, penetration measured.
+ * Twin: kernels/collide.cl. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "collide.h"
+
+#define DEFAULT_THICKNESS_M 0.004f /* sim.h default: cloth kept 4 mm off the skin */
+#define DEFAULT_REACH_M                                                                            \
+    0.03f /* 3 cm: a wrist at 3 m/s moves 10 cm a frame, but the feature                           \
+             points carry the swept cloth; contacts only need the rest */
+/* Twice the area (m^2) below which a triangle is degenerate: a 0.1 mm sliver of a 1 mm edge. */
+#define DEGENERATE_2AREA_M2 1e-10f
+
+#define SIM_COLLIDE_ERROR_TEXT(name, value, text)                                                  \
+    case name:                                                                                     \
+        return text;
+const char *sim_collide_error_str(int code)
+{
+    switch (code) {
+        SIM_COLLIDE_ERROR_LIST(SIM_COLLIDE_ERROR_TEXT)
+    }
+    return "unknown collide error";
+}
+#undef SIM_COLLIDE_ERROR_TEXT
+
+typedef struct edge_key {
+    int64_t key; /* min vertex * nv + max vertex */
+    int32_t tri, edge;
+} edge_key;
+
+sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t err_size)
+{
+    if (!d || d->max_vertices < 3 || d->max_triangles < 1 || !(d->thickness_m >= 0.0f) ||
+        !(d->friction >= 0.0f) || !(d->reach_m >= 0.0f) || d->max_cloth < 0) {
+        snprintf(err, err_size,
+                 "collider: bad description (need max_vertices >= 3, max_triangles >= 1, "
+                 "thickness, friction, reach >= 0)");
+        return NULL;
+    }
+    sim_collider *c = calloc(1, sizeof *c);
+    if (!c)
+        goto nomem;
+    c->d = *d;
+    if (c->d.thickness_m == 0.0f)
+        c->d.thickness_m = DEFAULT_THICKNESS_M;
+    if (c->d.reach_m == 0.0f)
+        c->d.reach_m = DEFAULT_REACH_M;
+    size_t nv = (size_t)d->max_vertices, nt = (size_t)d->max_triangles;
+    c->v = malloc(nv * sizeof *c->v);
+    c->v_prev = malloc(nv * sizeof *c->v_prev);
+    c->tris = malloc(nt * sizeof *c->tris);
+    c->n = malloc(nt * sizeof *c->n);
+    c->n_prev = malloc(nt * sizeof *c->n_prev);
+    c->nbr = malloc(nt * sizeof *c->nbr);
+    c->vt_start = malloc((nv + 1) * sizeof *c->vt_start);
+    c->vt_list = malloc(3 * nt * sizeof *c->vt_list);
+    c->edge_scratch = malloc(3 * nt * sizeof(edge_key));
+    if (!c->v || !c->v_prev || !c->tris || !c->n || !c->n_prev || !c->nbr || !c->vt_start ||
+        !c->vt_list || !c->edge_scratch)
+        goto nomem;
+    if (sim_bvh_init(&c->bvh, d->max_triangles) != 0)
+        goto nomem;
+    if (d->max_cloth > 0 && sim_collider_reserve(c, d->max_cloth) != 0)
+        goto nomem;
+    return c;
+nomem:
+    snprintf(err, err_size, "collider: out of memory for %d vertices, %d triangles",
+             d->max_vertices, d->max_triangles);
+    sim_collider_destroy(c);
+    return NULL;
+}
+
+void sim_collider_destroy(sim_collider *c)
+{
+    if (!c)
+        return;
+    free(c->v);
+    free(c->v_prev);
+    free(c->tris);
+    free(c->n);
+    free(c->n_prev);
+    free(c->nbr);
+    free(c->vt_start);
+    free(c->vt_list);
+    free(c->edge_scratch);
+    free(c->contact);
+    sim_bvh_free(&c->bvh);
+    free(c);
+}
+
+int sim_collider_reserve(sim_collider *c, int max_cloth)
+{
+    if (!c || max_cloth < 0)
+        return SIM_COLLIDE_EARG;
+    if (max_cloth <= c->max_cloth)
+        return 0;
+    int32_t *p = realloc(c->contact, (size_t)max_cloth * sizeof *p);
+    if (!p)
+        return SIM_COLLIDE_ENOMEM;
+    for (int i = c->max_cloth; i < max_cloth; i++)
+        p[i] = -1;
+    c->contact = p;
+    c->max_cloth = max_cloth;
+    return 0;
+}
+
+const sim_bvh *sim_collider_bvh(const sim_collider *c)
+{
+    return &c->bvh;
+}
+
+const int32_t *sim_collider_contacts(const sim_collider *c)
+{
+    return c->contact;
+}
+
+int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (**v_prev)[4],
+                      const int32_t (**tris)[4], const float (**n)[4])
+{
+    *v = (const float(*)[4])c->v;
+    *v_prev = (const float(*)[4])c->v_prev;
+    *tris = (const int32_t(*)[4])c->tris;
+    *n = (const float(*)[4])c->n;
+    return c->nt;
+}
+
+static void sub3(const float *a, const float *b, float *o)
+{
+    o[0] = a[0] - b[0];
+    o[1] = a[1] - b[1];
+    o[2] = a[2] - b[2];
+}
+
+static float dot3(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const float *a, const float *b, float *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static void set_bary(float q[3], float bary[3], const float *a, const float *b, const float *c,
+                     float u, float v, float w)
+{
+    bary[0] = u;
+    bary[1] = v;
+    bary[2] = w;
+    for (int k = 0; k < 3; k++)
+        q[k] = u * a[k] + v * b[k] + w * c[k];
+}
+
+int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3], const float c[3],
+                            float q[3], float bary[3])
+{
+    float ab[3], ac[3], ap[3], bp[3], cp[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    float d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) {
+        set_bary(q, bary, a, b, c, 1.0f, 0.0f, 0.0f);
+        return SIM_REGION_V0;
+    }
+    sub3(p, b, bp);
+    float d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0.0f && d4 <= d3) {
+        set_bary(q, bary, a, b, c, 0.0f, 1.0f, 0.0f);
+        return SIM_REGION_V1;
+    }
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+        float v = d1 / (d1 - d3);
+        set_bary(q, bary, a, b, c, 1.0f - v, v, 0.0f);
+        return SIM_REGION_E01;
+    }
+    sub3(p, c, cp);
+    float d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0.0f && d5 <= d6) {
+        set_bary(q, bary, a, b, c, 0.0f, 0.0f, 1.0f);
+        return SIM_REGION_V2;
+    }
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+        float w = d2 / (d2 - d6);
+        set_bary(q, bary, a, b, c, 1.0f - w, 0.0f, w);
+        return SIM_REGION_E20;
+    }
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f) {
+        float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        set_bary(q, bary, a, b, c, 0.0f, 1.0f - w, w);
+        return SIM_REGION_E12;
+    }
+    float denom = 1.0f / (va + vb + vc);
+    float v = vb * denom, w = vc * denom;
+    set_bary(q, bary, a, b, c, 1.0f - v - w, v, w);
+    return SIM_REGION_FACE;
+}
+
+/* Reject a body before touching the collider: the caller keeps the last good one. */
+static int validate_body(const sim_collider *c, const float *xyz, int nv, const int32_t *tris,
+                         int nt)
+{
+    if (!xyz || !tris || nv < 0 || nt < 0)
+        return SIM_COLLIDE_EARG;
+    if (nv == 0 || nt == 0)
+        return SIM_COLLIDE_EEMPTY;
+    if (nv > c->d.max_vertices || nt > c->d.max_triangles)
+        return SIM_COLLIDE_ETOO_BIG;
+    for (int i = 0; i < 3 * nv; i++)
+        if (!isfinite(xyz[i]))
+            return SIM_COLLIDE_ENAN;
+    for (int t = 0; t < nt; t++) {
+        const int32_t *f = tris + 3 * t;
+        for (int k = 0; k < 3; k++)
+            if (f[k] < 0 || f[k] >= nv)
+                return SIM_COLLIDE_EINDEX;
+        if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
+            return SIM_COLLIDE_EDEGENERATE;
+        float e1[3], e2[3], cr[3];
+        sub3(xyz + 3 * f[1], xyz + 3 * f[0], e1);
+        sub3(xyz + 3 * f[2], xyz + 3 * f[0], e2);
+        cross3(e1, e2, cr);
+        if (!(sqrtf(dot3(cr, cr)) > DEGENERATE_2AREA_M2))
+            return SIM_COLLIDE_EDEGENERATE;
+    }
+    return 0;
+}
+
+static int cmp_edge(const void *pa, const void *pb)
+{
+    const edge_key *a = pa, *b = pb;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return a->tri != b->tri ? (a->tri < b->tri ? -1 : 1) : a->edge - b->edge;
+}
+
+/* Per topology: triangles across each edge and the triangles around each vertex. */
+static void build_adjacency(sim_collider *c)
+{
+    int nv = c->nv, nt = c->nt;
+    edge_key *e = c->edge_scratch;
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int32_t a = c->tris[t][k], b = c->tris[t][(k + 1) % 3];
+            int32_t lo = a < b ? a : b, hi = a < b ? b : a;
+            e[3 * t + k] = (edge_key){(int64_t)lo * nv + hi, t, k};
+            c->nbr[t][k] = -1;
+        }
+    qsort(e, (size_t)3 * nt, sizeof *e, cmp_edge);
+    for (int i = 0; i + 1 < 3 * nt; i++)
+        if (e[i].key == e[i + 1].key) {
+            c->nbr[e[i].tri][e[i].edge] = e[i + 1].tri;
+            c->nbr[e[i + 1].tri][e[i + 1].edge] = e[i].tri;
+            i++; /* a non-manifold edge pairs its triangles two by two */
+        }
+    memset(c->vt_start, 0, (size_t)(nv + 1) * sizeof *c->vt_start);
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            c->vt_start[c->tris[t][k] + 1]++;
+    for (int i = 0; i < nv; i++)
+        c->vt_start[i + 1] += c->vt_start[i];
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            c->vt_list[c->vt_start[c->tris[t][k]]++] = t;
+    /* The fill advanced each start to the next vertex's start: shift back by one. */
+    for (int i = nv; i > 0; i--)
+        c->vt_start[i] = c->vt_start[i - 1];
+    c->vt_start[0] = 0;
+}
+
+static void face_normals(sim_collider *c)
+{
+#pragma omp parallel for schedule(static)
+    for (int t = 0; t < c->nt; t++) {
+        float e1[3], e2[3], nr[3];
+        sub3(c->v[c->tris[t][1]], c->v[c->tris[t][0]], e1);
+        sub3(c->v[c->tris[t][2]], c->v[c->tris[t][0]], e2);
+        cross3(e1, e2, nr);
+        float len = sqrtf(dot3(nr, nr));
+        for (int k = 0; k < 3; k++)
+            c->n[t][k] = nr[k] / len;
+        c->n[t][3] = 0.0f;
+    }
+}
+
+static int same_topology(const sim_collider *c, int nv, const int32_t *tris, int nt)
+{
+    if (c->nt != nt || c->nv != nv)
+        return 0;
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            if (c->tris[t][k] != tris[3 * t + k])
+                return 0;
+    return 1;
+}
+
+int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt)
+{
+    if (!c)
+        return SIM_COLLIDE_EARG;
+    int rc = validate_body(c, xyz, nv, tris, nt);
+    if (rc != 0)
+        return rc;
+    int had_body = c->nt > 0;
+    int same = same_topology(c, nv, tris, nt);
+    if (same) {
+        float(*tv)[4] = c->v_prev;
+        c->v_prev = c->v;
+        c->v = tv;
+        float(*tn)[4] = c->n_prev;
+        c->n_prev = c->n;
+        c->n = tn;
+    }
+    for (int i = 0; i < nv; i++) {
+        c->v[i][0] = xyz[3 * i];
+        c->v[i][1] = xyz[3 * i + 1];
+        c->v[i][2] = xyz[3 * i + 2];
+        c->v[i][3] = 0.0f;
+    }
+    if (same) {
+        face_normals(c);
+        sim_bvh_refit(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
+                      (const int32_t(*)[4])c->tris, c->d.thickness_m);
+        c->have_prev = 1;
+        return 0;
+    }
+    c->nv = nv;
+    c->nt = nt;
+    for (int t = 0; t < nt; t++) {
+        c->tris[t][0] = tris[3 * t];
+        c->tris[t][1] = tris[3 * t + 1];
+        c->tris[t][2] = tris[3 * t + 2];
+        c->tris[t][3] = 0;
+    }
+    memcpy(c->v_prev, c->v, (size_t)nv * sizeof *c->v);
+    face_normals(c);
+    memcpy(c->n_prev, c->n, (size_t)nt * sizeof *c->n);
+    build_adjacency(c);
+    sim_bvh_build(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
+                  (const int32_t(*)[4])c->tris, nt, c->d.thickness_m);
+    for (int i = 0; i < c->max_cloth; i++)
+        c->contact[i] = -1;
+    c->have_prev = 0;
+    return had_body ? SIM_COLLIDE_ETOPOLOGY : 0;
+}
+
+/* Interior angle of triangle t at its corner k. */
+static float corner_angle(const sim_collider *c, int t, int k)
+{
+    const float *p = c->v[c->tris[t][k]], *a = c->v[c->tris[t][(k + 1) % 3]],
+                *b = c->v[c->tris[t][(k + 2) % 3]];
+    float u[3], w[3];
+    sub3(a, p, u);
+    sub3(b, p, w);
+    float cs = dot3(u, w) / sqrtf(dot3(u, u) * dot3(w, w));
+    cs = cs > 1.0f ? 1.0f : (cs < -1.0f ? -1.0f : cs);
+    return acosf(cs);
+}
+
+void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3])
+{
+    if (region == SIM_REGION_FACE) {
+        memcpy(out, c->n[t], 3 * sizeof *out);
+        return;
+    }
+    if (region >= SIM_REGION_E01) {
+        /* Edge: both faces weigh pi. */
+        int o = c->nbr[t][region - SIM_REGION_E01];
+        for (int k = 0; k < 3; k++)
+            out[k] = c->n[t][k] + (o >= 0 ? c->n[o][k] : c->n[t][k]);
+        return;
+    }
+    int vi = c->tris[t][region - SIM_REGION_V0];
+    out[0] = out[1] = out[2] = 0.0f;
+    for (int j = c->vt_start[vi]; j < c->vt_start[vi + 1]; j++) {
+        int f = c->vt_list[j];
+        int k = c->tris[f][0] == vi ? 0 : (c->tris[f][1] == vi ? 1 : 2);
+        float a = corner_angle(c, f, k);
+        for (int m = 0; m < 3; m++)
+            out[m] += a * c->n[f][m];
+    }
+}
+
+float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3])
+{
+    float q[3], bary[3], d[3], pn[3];
+    const int32_t *f = c->tris[t];
+    int region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    sub3(p, q, d);
+    float dist = sqrtf(dot3(d, d));
+    if (region == SIM_REGION_FACE)
+        return dot3(d, c->n[t]);
+    sim_collider_pseudo_normal(c, t, region, pn);
+    return dot3(d, pn) >= 0.0f ? dist : -dist;
+}
+
+void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end)
+{
+    if (!c || !x)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+    float reach = c->d.thickness_m + c->d.reach_m;
+    const float(*v)[4] = (const float(*)[4])c->v;
+    const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
+#pragma omp parallel for schedule(static)
+    for (int i = begin; i < end; i++) {
+        float q[3], bary[3], dist;
+        c->contact[i] =
+            c->nt > 0 ? sim_bvh_nearest(&c->bvh, v, tris, x[i], reach, q, bary, &dist) : -1;
+    }
+}
+
+/* One point against its cached triangle: out to thickness along the contact normal, then
+   Coulomb-like friction on the motion since x_prev, bounded by friction * the push. */
+static void resolve_point(const sim_collider *c, int t, float *x, float *x_prev)
+{
+    float q[3], bary[3], d[3], nrm[3];
+    const int32_t *f = c->tris[t];
+    int region = sim_closest_on_triangle(x, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    sub3(x, q, d);
+    float dist;
+    if (region == SIM_REGION_FACE) {
+        memcpy(nrm, c->n[t], sizeof nrm);
+        dist = dot3(d, nrm);
+    } else {
+        float pn[3];
+        sim_collider_pseudo_normal(c, t, region, pn);
+        float len = sqrtf(dot3(d, d));
+        if (dot3(d, pn) >= 0.0f && len > 1e-9f) {
+            for (int k = 0; k < 3; k++)
+                nrm[k] = d[k] / len;
+            dist = len;
+        } else {
+            float pl = sqrtf(dot3(pn, pn));
+            for (int k = 0; k < 3; k++)
+                nrm[k] = pn[k] / pl;
+            dist = -len;
+        }
+    }
+    float push = c->d.thickness_m - dist;
+    if (!(push > 0.0f))
+        return;
+    for (int k = 0; k < 3; k++)
+        x[k] += push * nrm[k];
+    float rel[3], tan[3];
+    sub3(x, x_prev, rel);
+    float rn = dot3(rel, nrm);
+    for (int k = 0; k < 3; k++)
+        tan[k] = rel[k] - rn * nrm[k];
+    float tl = sqrtf(dot3(tan, tan)), limit = c->d.friction * push;
+    if (!(tl > 0.0f))
+        return;
+    float keep = tl <= limit ? 1.0f : limit / tl;
+    for (int k = 0; k < 3; k++)
+        x[k] -= keep * tan[k];
+}
+
+void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
+                          int end)
+{
+    if (!c || !x || !x_prev || c->nt == 0)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+#pragma omp parallel for schedule(static)
+    for (int i = begin; i < end; i++) {
+        int t = c->contact[i];
+        if (t >= 0 && x[i][3] != 0.0f)
+            resolve_point(c, t, x[i], x_prev[i]);
+    }
+}
+
+int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,
+                             int *count, float *max_depth_m)
+{
+    if (!c || (!x && n > 0) || n < 0 || !count || !max_depth_m)
+        return SIM_COLLIDE_EARG;
+    int cnt = 0;
+    float deepest = 0.0f;
+    if (c->nt > 0) {
+        const float(*v)[4] = (const float(*)[4])c->v;
+        const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
+#pragma omp parallel for schedule(static) reduction(+ : cnt) reduction(max : deepest)
+        for (int i = 0; i < n; i++) {
+            float q[3], bary[3], dist;
+            int t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+            if (t < 0)
+                continue;
+            float sd = sim_collider_signed_distance(c, t, x[i]);
+            if (sd < -tol_m)
+                cnt++;
+            if (-sd > deepest)
+                deepest = -sd;
+        }
+    }
+    *count = cnt;
+    *max_depth_m = deepest;
+    return 0;
+}
