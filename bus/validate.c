@@ -28,21 +28,30 @@ static bus_error check_count(int32_t n, int64_t max, const char *name, bus_rejec
     return BUS_OK;
 }
 
-static bus_error check_mesh(int32_t nv, const float (*v)[3], int32_t nt, const int32_t (*t)[3],
+/* A count of flat xyz coordinates or triangle corners: a multiple of 3 within its limit. */
+static bus_error check_triples(int32_t n, int64_t max_triples, const char *name, bus_reject *why)
+{
+    if (n < 0 || n > 3 * max_triples || n % 3 != 0)
+        return bus_reject_set(why, BUS_ERR_COUNT, "%s = %d (a multiple of 3, 0..%lld)", name,
+                              (int)n, (long long)(3 * max_triples));
+    return BUS_OK;
+}
+
+static bus_error check_mesh(int32_t ncoords, const float *v, int32_t nindices, const int32_t *t,
                             bus_reject *why)
 {
-    bus_error e = check_count(nv, BUS_MAX_VERTICES, "num_vertices", why);
+    bus_error e = check_triples(ncoords, BUS_MAX_VERTICES, "num_vertex_coords", why);
     if (e == BUS_OK)
-        e = check_count(nt, BUS_MAX_TRIANGLES, "num_triangles", why);
-    if (e == BUS_OK && nv > 0)
-        e = check_floats(&v[0][0], (int64_t)nv * 3, BUS_MAX_COORD_M, "vertices", 3, why);
+        e = check_triples(nindices, BUS_MAX_TRIANGLES, "num_triangle_indices", why);
+    if (e == BUS_OK)
+        e = check_floats(v, ncoords, BUS_MAX_COORD_M, "vertices", 3, why);
     if (e != BUS_OK)
         return e;
-    for (int32_t i = 0; i < nt; i++)
-        for (int k = 0; k < 3; k++)
-            if (t[i][k] < 0 || t[i][k] >= nv)
-                return bus_reject_set(why, BUS_ERR_INDEX, "triangles[%d][%d] = %d, %d vertices",
-                                      (int)i, k, (int)t[i][k], (int)nv);
+    int32_t nv = ncoords / 3;
+    for (int32_t i = 0; i < nindices; i++)
+        if (t[i] < 0 || t[i] >= nv)
+            return bus_reject_set(why, BUS_ERR_INDEX, "triangles[%d][%d] = %d, %d vertices",
+                                  (int)(i / 3), (int)(i % 3), (int)t[i], (int)nv);
     return BUS_OK;
 }
 
@@ -89,20 +98,19 @@ static bus_error validate_body(const tryon_body_t *m, bus_reject *why)
     if (e == BUS_OK)
         e = check_count(m->num_pose, BUS_MAX_PARAMS, "num_pose", why);
     if (e == BUS_OK)
-        e = check_count(m->num_joints, BUS_MAX_PARAMS, "num_joints", why);
+        e = check_triples(m->num_joint_coords, BUS_MAX_PARAMS, "num_joint_coords", why);
     if (e == BUS_OK)
         e = check_floats(&m->fit_residual_mm, 1, 0, "fit_residual_mm", 1, why);
     if (e == BUS_OK)
         e = check_floats(m->shape, m->num_shape, BUS_MAX_COORD_M, "shape", 1, why);
     if (e == BUS_OK)
         e = check_floats(m->pose, m->num_pose, BUS_MAX_COORD_M, "pose", 1, why);
-    if (e == BUS_OK && m->num_joints > 0)
-        e = check_floats(&m->joints[0][0], (int64_t)m->num_joints * 3, BUS_MAX_COORD_M, "joints", 3,
-                         why);
+    if (e == BUS_OK)
+        e = check_floats(m->joints, m->num_joint_coords, BUS_MAX_COORD_M, "joints", 3, why);
     if (e != BUS_OK)
         return e;
-    return check_mesh(m->num_vertices, (const float(*)[3])m->vertices, m->num_triangles,
-                      (const int32_t(*)[3])m->triangles, why);
+    return check_mesh(m->num_vertex_coords, m->vertices, m->num_triangle_indices, m->triangles,
+                      why);
 }
 
 static bus_error validate_cloth(const tryon_cloth_t *m, bus_reject *why)
@@ -116,11 +124,11 @@ static bus_error validate_cloth(const tryon_cloth_t *m, bus_reject *why)
     bus_error e = check_floats(f, 3, 0, "max_strain,p99_strain,max_pen_mm", 3, why);
     if (e != BUS_OK)
         return e;
-    if (m->penetrating < 0 || m->penetrating > m->num_vertices)
+    if (m->penetrating < 0 || m->penetrating > m->num_vertex_coords / 3)
         return bus_reject_set(why, BUS_ERR_RANGE, "penetrating %d of %d vertices",
-                              (int)m->penetrating, (int)m->num_vertices);
-    return check_mesh(m->num_vertices, (const float(*)[3])m->vertices, m->num_triangles,
-                      (const int32_t(*)[3])m->triangles, why);
+                              (int)m->penetrating, (int)(m->num_vertex_coords / 3));
+    return check_mesh(m->num_vertex_coords, m->vertices, m->num_triangle_indices, m->triangles,
+                      why);
 }
 
 static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)

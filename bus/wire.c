@@ -15,6 +15,7 @@ typedef struct wire_field {
     const char *name;
 } wire_field;
 
+/* clang-format off: one wire field per line, in .lcm order */
 /* The layouts below follow the field order of bus/<type>.lcm; the round-trip test of every type
  * fails if they drift apart. */
 static const wire_field wire_tryon_depth_frame_t[] = {
@@ -45,13 +46,13 @@ static const wire_field wire_tryon_body_t[] = {
     {W_ARRAY, 0, 4, "shape"},
     {W_COUNT, 1, BUS_MAX_PARAMS, "num_pose"},
     {W_ARRAY, 1, 4, "pose"},
-    {W_COUNT, 2, BUS_MAX_PARAMS, "num_joints"},
-    {W_ARRAY, 2, 12, "joints"},
+    {W_COUNT, 2, 3 * BUS_MAX_PARAMS, "num_joint_coords"},
+    {W_ARRAY, 2, 4, "joints"},
     {W_I32, 0, 0, "topology_id"},
-    {W_COUNT, 3, BUS_MAX_VERTICES, "num_vertices"},
-    {W_ARRAY, 3, 12, "vertices"},
-    {W_COUNT, 4, BUS_MAX_TRIANGLES, "num_triangles"},
-    {W_ARRAY, 4, 12, "triangles"},
+    {W_COUNT, 3, 3 * BUS_MAX_VERTICES, "num_vertex_coords"},
+    {W_ARRAY, 3, 4, "vertices"},
+    {W_COUNT, 4, 3 * BUS_MAX_TRIANGLES, "num_triangle_indices"},
+    {W_ARRAY, 4, 4, "triangles"},
     {W_END, 0, 0, NULL},
 };
 
@@ -60,9 +61,9 @@ static const wire_field wire_tryon_cloth_t[] = {
     {W_STR, 0, 0, "garment_id"},    {W_I8, 0, 0, "state"},
     {W_F32, 0, 0, "max_strain"},    {W_F32, 0, 0, "p99_strain"},
     {W_I32, 0, 0, "penetrating"},   {W_F32, 0, 0, "max_pen_mm"},
-    {W_I32, 0, 0, "topology_id"},   {W_COUNT, 0, BUS_MAX_VERTICES, "num_vertices"},
-    {W_ARRAY, 0, 12, "vertices"},   {W_COUNT, 1, BUS_MAX_TRIANGLES, "num_triangles"},
-    {W_ARRAY, 1, 12, "triangles"},  {W_END, 0, 0, NULL},
+    {W_I32, 0, 0, "topology_id"},   {W_COUNT, 0, 3 * BUS_MAX_VERTICES, "num_vertex_coords"},
+    {W_ARRAY, 0, 4, "vertices"},    {W_COUNT, 1, 3 * BUS_MAX_TRIANGLES, "num_triangle_indices"},
+    {W_ARRAY, 1, 4, "triangles"},   {W_END, 0, 0, NULL},
 };
 
 static const wire_field wire_tryon_timing_t[] = {
@@ -77,6 +78,8 @@ static const wire_field wire_tryon_timing_t[] = {
     {W_ARRAY, 0, 4, "substage_ms"},
     {W_END, 0, 0, NULL},
 };
+
+/* clang-format on */
 
 static int32_t read_i32(const uint8_t *p)
 {
