@@ -70,7 +70,8 @@ uint32_t sim_morton3(float x, float y, float z)
     float q[3] = {x * 1024.0f, y * 1024.0f, z * 1024.0f};
     uint32_t u[3];
     for (int k = 0; k < 3; k++) {
-        float c = q[k] < 0.0f ? 0.0f : (q[k] > 1023.0f ? 1023.0f : q[k]);
+        /* Written so NaN lands on 0: a float to integer cast of NaN is undefined. */
+        float c = q[k] > 0.0f ? (q[k] < 1023.0f ? q[k] : 1023.0f) : 0.0f;
         u[k] = (uint32_t)c;
     }
     return expand_bits(u[0]) * 4 + expand_bits(u[1]) * 2 + expand_bits(u[2]);

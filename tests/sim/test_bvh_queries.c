@@ -1,0 +1,248 @@
+/* The LBVH against brute force on random triangle soups: nearest triangle, box containment,
+ * refit after motion equal to a fresh build, and the tree's shape. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "collide.h"
+#include "test_collide_util.h"
+
+#define NT      600
+#define QUERIES 400
+/* Nearest distances agree to float rounding of a 1 m scene. */
+#define DIST_TOL_M 1e-6f
+
+typedef struct mesh {
+    int nv, nt;
+    float (*v)[4], (*v_prev)[4];
+    int32_t (*tris)[4];
+} mesh;
+
+static mesh make_mesh(uint32_t seed)
+{
+    mesh m;
+    float *xyz;
+    int32_t *t3;
+    tc_soup(&seed, NT, &xyz, &t3);
+    m.nt = NT;
+    m.nv = 3 * NT;
+    m.v = malloc((size_t)m.nv * sizeof *m.v);
+    m.v_prev = malloc((size_t)m.nv * sizeof *m.v_prev);
+    m.tris = malloc((size_t)m.nt * sizeof *m.tris);
+    for (int i = 0; i < m.nv; i++) {
+        for (int k = 0; k < 3; k++)
+            m.v[i][k] = xyz[3 * i + k];
+        m.v[i][3] = 0.0f;
+    }
+    memcpy(m.v_prev, m.v, (size_t)m.nv * sizeof *m.v);
+    for (int f = 0; f < m.nt; f++) {
+        for (int k = 0; k < 3; k++)
+            m.tris[f][k] = t3[3 * f + k];
+        m.tris[f][3] = 0;
+    }
+    free(xyz);
+    free(t3);
+    return m;
+}
+
+static void free_mesh(mesh *m)
+{
+    free(m->v);
+    free(m->v_prev);
+    free(m->tris);
+}
+
+static float brute_nearest(const mesh *m, const float p[3], int *tri)
+{
+    float best = INFINITY;
+    *tri = -1;
+    for (int f = 0; f < m->nt; f++) {
+        float q[3], b[3];
+        sim_closest_on_triangle(p, m->v[m->tris[f][0]], m->v[m->tris[f][1]], m->v[m->tris[f][2]], q,
+                                b);
+        float d = sqrtf((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                        (p[2] - q[2]) * (p[2] - q[2]));
+        if (d < best) {
+            best = d;
+            *tri = f;
+        }
+    }
+    return best;
+}
+
+static int in_box(const mesh *m, int f, const float p[3], float pad, int swept)
+{
+    for (int k = 0; k < 3; k++) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int j = 0; j < 3; j++) {
+            float a = m->v[m->tris[f][j]][k];
+            lo = fminf(lo, a), hi = fmaxf(hi, a);
+            if (swept) {
+                a = m->v_prev[m->tris[f][j]][k];
+                lo = fminf(lo, a), hi = fmaxf(hi, a);
+            }
+        }
+        if (p[k] < lo - pad || p[k] > hi + pad)
+            return 0;
+    }
+    return 1;
+}
+
+static void check_queries(const sim_bvh *b, const mesh *m, uint32_t seed, float pad)
+{
+    int32_t out[NT];
+    for (int qi = 0; qi < QUERIES; qi++) {
+        float p[3] = {tc_range(&seed, -0.6f, 0.6f), tc_range(&seed, -0.6f, 0.6f),
+                      tc_range(&seed, -0.6f, 0.6f)};
+        int bt;
+        float bd = brute_nearest(m, p, &bt);
+        float q[3], bary[3], d = -1.0f;
+        int t = sim_bvh_nearest(b, (const float(*)[4])m->v, (const int32_t(*)[4])m->tris, p,
+                                INFINITY, q, bary, &d);
+        assert_int_not_equal(t, -1);
+        assert_float_equal(d, bd, DIST_TOL_M);
+        /* Within a radius below the nearest distance, nothing is found. */
+        if (bd > 2e-3f)
+            assert_int_equal(sim_bvh_nearest(b, (const float(*)[4])m->v,
+                                             (const int32_t(*)[4])m->tris, p, bd - 1e-3f, q, bary,
+                                             &d),
+                             -1);
+        for (int swept = 0; swept < 2; swept++) {
+            int n = sim_bvh_containing(b, p, swept, out, NT);
+            int expect = 0;
+            for (int f = 0; f < m->nt; f++)
+                if (in_box(m, f, p, pad, swept)) {
+                    expect++;
+                    int seen = 0;
+                    for (int j = 0; j < n; j++)
+                        seen |= out[j] == f;
+                    assert_true(seen);
+                }
+            assert_int_equal(n, expect);
+        }
+    }
+}
+
+static void test_bvh_nearest_and_containment_match_brute_force(void **state)
+{
+    (void)state;
+    mesh m = make_mesh(12345u);
+    sim_bvh b;
+    assert_int_equal(sim_bvh_init(&b, NT), 0);
+    sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.01f);
+    check_queries(&b, &m, 777u, 0.01f);
+    sim_bvh_free(&b);
+    free_mesh(&m);
+}
+
+static void test_bvh_refit_equals_rebuild(void **state)
+{
+    (void)state;
+    mesh m = make_mesh(999u);
+    sim_bvh refit, fresh;
+    assert_int_equal(sim_bvh_init(&refit, NT), 0);
+    assert_int_equal(sim_bvh_init(&fresh, NT), 0);
+    sim_bvh_build(&refit, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.004f);
+    /* Move every vertex up to 5 cm: the topology stays, the boxes follow. */
+    uint32_t s = 4242u;
+    memcpy(m.v_prev, m.v, (size_t)m.nv * sizeof *m.v);
+    for (int i = 0; i < m.nv; i++)
+        for (int k = 0; k < 3; k++)
+            m.v[i][k] += tc_range(&s, -0.05f, 0.05f);
+    sim_bvh_refit(&refit, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, 0.004f);
+    sim_bvh_build(&fresh, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.004f);
+    check_queries(&refit, &m, 31u, 0.004f);
+    check_queries(&fresh, &m, 31u, 0.004f);
+    /* The root boxes agree exactly: both are unions of the same leaf boxes. */
+    for (int k = 0; k < 3; k++) {
+        assert_true(refit.lo[0][k] == fresh.lo[0][k] && refit.hi[0][k] == fresh.hi[0][k]);
+        assert_true(refit.slo[0][k] == fresh.slo[0][k] && refit.shi[0][k] == fresh.shi[0][k]);
+    }
+    sim_bvh_free(&refit);
+    sim_bvh_free(&fresh);
+    free_mesh(&m);
+}
+
+/* Every node but the root has one parent, every leaf is reached once, codes are sorted. */
+static void test_bvh_tree_is_a_binary_tree_over_sorted_codes(void **state)
+{
+    (void)state;
+    mesh m = make_mesh(5u);
+    sim_bvh b;
+    assert_int_equal(sim_bvh_init(&b, NT), 0);
+    sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.0f);
+    for (int i = 1; i < m.nt; i++)
+        assert_true(b.morton[i - 1] <= b.morton[i]);
+    int *hits = calloc((size_t)(2 * m.nt - 1), sizeof *hits);
+    for (int i = 0; i < m.nt - 1; i++)
+        for (int c = 0; c < 2; c++) {
+            int ch = b.child[i][c];
+            assert_true(ch > 0 && ch < 2 * m.nt - 1);
+            assert_int_equal(b.parent[ch], i);
+            hits[ch]++;
+        }
+    assert_int_equal(hits[0], 0);
+    for (int i = 1; i < 2 * m.nt - 1; i++)
+        assert_int_equal(hits[i], 1);
+    int *seen = calloc((size_t)m.nt, sizeof *seen);
+    for (int i = 0; i < m.nt; i++)
+        seen[b.order[i]]++;
+    for (int i = 0; i < m.nt; i++)
+        assert_int_equal(seen[i], 1);
+    free(hits);
+    free(seen);
+    sim_bvh_free(&b);
+    free_mesh(&m);
+}
+
+static void test_bvh_morton_interleaves_axes(void **state)
+{
+    (void)state;
+    assert_int_equal(sim_morton3(0.0f, 0.0f, 0.0f), 0u);
+    assert_int_equal(sim_morton3(0.0f, 0.0f, 1.0f / 1024.0f), 1u);
+    assert_int_equal(sim_morton3(0.0f, 1.0f / 1024.0f, 0.0f), 2u);
+    assert_int_equal(sim_morton3(1.0f / 1024.0f, 0.0f, 0.0f), 4u);
+    assert_int_equal(sim_morton3(1.0f, 1.0f, 1.0f), 0x3FFFFFFFu);
+    assert_int_equal(sim_morton3(-5.0f, 2.0f, NAN), sim_morton3(0.0f, 1.0f, 0.0f));
+}
+
+/* One triangle: the root is the leaf. */
+static void test_bvh_single_triangle(void **state)
+{
+    (void)state;
+    float v[3][4] = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
+    int32_t t[1][4] = {{0, 1, 2, 0}};
+    sim_bvh b;
+    assert_int_equal(sim_bvh_init(&b, 1), 0);
+    sim_bvh_build(&b, (const float(*)[4])v, (const float(*)[4])v, (const int32_t(*)[4])t, 1, 0.0f);
+    float p[3] = {0.25f, 0.25f, 0.5f}, q[3], bary[3], d;
+    assert_int_equal(
+        sim_bvh_nearest(&b, (const float(*)[4])v, (const int32_t(*)[4])t, p, 1.0f, q, bary, &d), 0);
+    assert_float_equal(d, 0.5f, 1e-6f);
+    int32_t out[2];
+    float in[3] = {0.2f, 0.2f, 0.0f};
+    assert_int_equal(sim_bvh_containing(&b, in, 0, out, 2), 1);
+    assert_int_equal(sim_bvh_containing(&b, p, 0, out, 2), 0);
+    sim_bvh_free(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bvh_nearest_and_containment_match_brute_force),
+        cmocka_unit_test(test_bvh_refit_equals_rebuild),
+        cmocka_unit_test(test_bvh_tree_is_a_binary_tree_over_sorted_codes),
+        cmocka_unit_test(test_bvh_morton_interleaves_axes),
+        cmocka_unit_test(test_bvh_single_triangle),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,192 @@
+/* Contacts and response: points pushed out to thickness and never pulled in, friction bounded by
+ * the push, and the penetration metric against analytic spheres. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "collide.h"
+#include "test_collide_util.h"
+
+#define THICK 0.004f
+#define N     500
+/* Float rounding of positions near 1 m. */
+#define EPS_M 2e-6f
+
+static sim_collider *make(int nv, int nt, float friction)
+{
+    char err[128];
+    sim_collider *c = sim_collider_create(&(sim_collider_desc){.max_vertices = nv,
+                                                               .max_triangles = nt,
+                                                               .thickness_m = THICK,
+                                                               .friction = friction,
+                                                               .max_cloth = N},
+                                          err, sizeof err);
+    assert_non_null(c);
+    return c;
+}
+
+/* A 1 m square at y = 0, normal +y. */
+static const float square[12] = {-0.5f, 0, -0.5f, 0.5f, 0, -0.5f, 0.5f, 0, 0.5f, -0.5f, 0, 0.5f};
+static const int32_t square_tris[6] = {0, 2, 1, 0, 3, 2};
+
+static void test_collide_resolve_pushes_out_and_never_pulls_in(void **state)
+{
+    (void)state;
+    sim_collider *c = make(4, 2, 0.0f);
+    assert_int_equal(sim_collider_set_body(c, square, 4, square_tris, 2), 0);
+    float x[N][4], xp[N][4], before[N][4];
+    uint32_t s = 17u;
+    for (int i = 0; i < N; i++) {
+        x[i][0] = tc_range(&s, -0.45f, 0.45f);
+        x[i][1] = tc_range(&s, -0.003f, 0.02f);
+        x[i][2] = tc_range(&s, -0.45f, 0.45f);
+        x[i][3] = 1.0f;
+        memcpy(xp[i], x[i], sizeof x[i]);
+    }
+    memcpy(before, x, sizeof x);
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+    sim_collider_resolve(c, x, xp, 0, N);
+    int pushed = 0;
+    for (int i = 0; i < N; i++) {
+        if (before[i][1] < THICK) {
+            assert_float_equal(x[i][1], THICK, EPS_M);
+            pushed++;
+        } else {
+            assert_true(x[i][1] == before[i][1]);
+        }
+        /* Friction 0 and no motion: the point only moves along the normal. */
+        assert_true(x[i][0] == before[i][0] && x[i][2] == before[i][2]);
+    }
+    assert_true(pushed > 50);
+    sim_collider_destroy(c);
+}
+
+static void test_collide_friction_bounded_by_push(void **state)
+{
+    (void)state;
+    sim_collider *c = make(4, 2, 0.5f);
+    assert_int_equal(sim_collider_set_body(c, square, 4, square_tris, 2), 0);
+    /* Point 0: 2 mm under, moving 0.5 mm sideways: push 6 mm, friction limit 3 mm, stopped.
+       Point 1: 2 mm under, moving 10 mm sideways: slowed by exactly 3 mm.
+       Point 2: above thickness, moving: untouched. */
+    float x[3][4] = {{0.0005f, -0.002f, 0, 1}, {0.01f, -0.002f, 0, 1}, {0.01f, 0.01f, 0, 1}};
+    float xp[3][4] = {{0, -0.002f, 0, 1}, {0, -0.002f, 0, 1}, {0, 0.01f, 0, 1}};
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, 3);
+    sim_collider_resolve(c, x, xp, 0, 3);
+    assert_float_equal(x[0][0], 0.0f, EPS_M);
+    assert_float_equal(x[0][1], THICK, EPS_M);
+    assert_float_equal(x[1][0], 0.01f - 0.5f * 0.006f, EPS_M);
+    assert_float_equal(x[1][1], THICK, EPS_M);
+    assert_true(x[2][0] == 0.01f && x[2][1] == 0.01f);
+    sim_collider_destroy(c);
+}
+
+/* The signed distance of the mesh against the analytic sphere. An inscribed UV sphere with 64
+   slices and 32 stacks lies inside the true sphere by at most r (1 - cos(pi / 32)) ~ 0.5 %. */
+static void test_collide_penetration_matches_analytic_sphere(void **state)
+{
+    (void)state;
+    const float r = 0.2f, sag = r * (1.0f - cosf(3.14159265f / 32.0f)) * 2.0f;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    tc_sphere(r, 64, 32, &xyz, &nv, &tris, &nt);
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    float x[N][4];
+    uint32_t s = 99u;
+    int inside = 0;
+    float deepest = 0.0f;
+    for (int i = 0; i < N; i++) {
+        /* Radii away from the surface by more than the tessellation error. */
+        float dir[3], len;
+        do {
+            for (int k = 0; k < 3; k++)
+                dir[k] = tc_range(&s, -1.0f, 1.0f);
+            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        } while (len < 0.1f || len > 1.0f);
+        float rad = tc_range(&s, 0.05f, 0.35f);
+        if (fabsf(rad - r) < 0.01f)
+            rad = r + (rad < r ? -0.01f : 0.01f);
+        for (int k = 0; k < 3; k++)
+            x[i][k] = dir[k] / len * rad;
+        x[i][3] = 1.0f;
+        if (rad < r - 0.001f) {
+            inside++;
+            deepest = fmaxf(deepest, r - rad);
+        }
+        /* Per point: the signed distance through the nearest triangle. */
+        float q[3], bary[3], d;
+        const sim_bvh *b = sim_collider_bvh(c);
+        const float(*v)[4], (*vp)[4], (*n)[4];
+        const int32_t(*t)[4];
+        sim_collider_body(c, &v, &vp, &t, &n);
+        int tri = sim_bvh_nearest(b, v, t, x[i], INFINITY, q, bary, &d);
+        assert_true(tri >= 0);
+        float sd = sim_collider_signed_distance(c, tri, x[i]);
+        assert_true(sd >= rad - r - 1e-5f && sd <= rad - r + sag);
+    }
+    int count;
+    float depth;
+    assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, N, 0.001f, &count, &depth),
+                     0);
+    assert_int_equal(count, inside);
+    assert_true(depth <= deepest + 1e-5f && depth >= deepest - sag);
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(c);
+}
+
+/* Points just inside a sphere, at faces, edges and vertices alike, come out to thickness. */
+static void test_collide_resolve_clears_sphere_shell(void **state)
+{
+    (void)state;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    tc_sphere(0.15f, 24, 12, &xyz, &nv, &tris, &nt);
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    float x[N][4], xp[N][4];
+    uint32_t s = 5u;
+    for (int i = 0; i < N; i++) {
+        float dir[3], len;
+        do {
+            for (int k = 0; k < 3; k++)
+                dir[k] = tc_range(&s, -1.0f, 1.0f);
+            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        } while (len < 0.1f || len > 1.0f);
+        float rad = tc_range(&s, 0.13f, 0.16f);
+        for (int k = 0; k < 3; k++)
+            x[i][k] = dir[k] / len * rad;
+        x[i][3] = 1.0f;
+        memcpy(xp[i], x[i], sizeof x[i]);
+    }
+    /* Iterate like the solver does: contacts once, resolve a few times. */
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+    for (int it = 0; it < 3; it++)
+        sim_collider_resolve(c, x, xp, 0, N);
+    int count;
+    float depth;
+    assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, N, 0.0f, &count, &depth), 0);
+    assert_int_equal(count, 0);
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(c);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_collide_resolve_pushes_out_and_never_pulls_in),
+        cmocka_unit_test(test_collide_friction_bounded_by_push),
+        cmocka_unit_test(test_collide_penetration_matches_analytic_sphere),
+        cmocka_unit_test(test_collide_resolve_clears_sphere_shell),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
