@@ -1,6 +1,7 @@
 #include "support.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <stdio.h>
@@ -14,7 +15,35 @@ extern char **environ;
 
 #define TS_MAX_ENV 512
 
+static pid_t spawn_with(char *const argv[], char *const env_add[], const char *out_path);
+
 pid_t ts_spawn(char *const argv[], char *const env_add[])
+{
+    return spawn_with(argv, env_add, NULL);
+}
+
+pid_t ts_spawn_out(char *const argv[], char *const env_add[], const char *out_path)
+{
+    return spawn_with(argv, env_add, out_path);
+}
+
+char *ts_read_file(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)(n > 0 ? n : 0) + 1);
+    size_t got = s ? fread(s, 1, (size_t)(n > 0 ? n : 0), f) : 0;
+    if (s)
+        s[got] = 0;
+    fclose(f);
+    return s;
+}
+
+static pid_t spawn_with(char *const argv[], char *const env_add[], const char *out_path)
 {
     char *env[TS_MAX_ENV];
     int n = 0;
@@ -31,10 +60,16 @@ pid_t ts_spawn(char *const argv[], char *const env_add[])
             env[n++] = *e;
     }
     env[n] = NULL;
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    if (out_path) {
+        posix_spawn_file_actions_addopen(&fa, 1, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    }
     pid_t pid;
-    if (posix_spawn(&pid, argv[0], NULL, NULL, argv, env) != 0)
-        return -1;
-    return pid;
+    int rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, env);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
 }
 
 int ts_wait(pid_t pid, int timeout_ms)

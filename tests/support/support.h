@@ -9,6 +9,10 @@
 /* Starts argv[0] (a path) with the current environment plus env_add ("NAME=value", NULL-ended,
  * may be NULL). Returns the pid, or -1. */
 pid_t ts_spawn(char *const argv[], char *const env_add[]);
+/* Like ts_spawn, with stdout and stderr written to out_path (truncated first). */
+pid_t ts_spawn_out(char *const argv[], char *const env_add[], const char *out_path);
+/* Reads a whole (small) file into a malloc'd, NUL-terminated string; NULL if unreadable. */
+char *ts_read_file(const char *path);
 /* Waits up to timeout_ms. Returns the exit status, 128 + signal if it was killed by one, or -1 if
  * the deadline passed (the child is then killed with SIGKILL and reaped). */
 int ts_wait(pid_t pid, int timeout_ms);

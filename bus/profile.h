@@ -1,0 +1,35 @@
+/* Latency profile from timing_t messages: per stage and end to end. Public as part of the bus
+ * library (tryon-profile and tests use it). */
+#ifndef TRYON_BUS_PROFILE_H
+#define TRYON_BUS_PROFILE_H
+
+#include <stdio.h>
+
+#include "bus.h"
+
+#define BUS_PROFILE_MAX_STAGES 16
+
+typedef struct bus_stage_stats {
+    char stage[32];
+    int frames;
+    int dropped; /* sequence numbers missing between the first and the last seen */
+    double fps;  /* frames per second of wall clock between the first and last finish */
+    double work_p50_ms, work_p95_ms, work_p99_ms, work_max_ms; /* finished - started */
+    double lat_p50_ms, lat_p95_ms, lat_p99_ms, lat_max_ms;     /* finished - utime_capture */
+    int num_substages;
+    char substage[BUS_MAX_SUBSTAGES][32];
+    double substage_p50_ms[BUS_MAX_SUBSTAGES];
+} bus_stage_stats;
+
+typedef struct bus_profile bus_profile;
+bus_profile *bus_profile_create(void);
+void bus_profile_destroy(bus_profile *p);
+/* Adds one report. Returns 0, or -1 when out of memory or the stage table is full. */
+int bus_profile_add(bus_profile *p, const tryon_timing_t *t);
+/* Fills out[] (at most max) in pipeline order: capture, bodyfit, sim, mirror, then others by
+ * name. Returns the number of stages. */
+int bus_profile_stats(const bus_profile *p, bus_stage_stats *out, int max);
+/* A human table, then one JSON line naming the end-to-end figures (the last stage's latency). */
+void bus_profile_print(const bus_profile *p, FILE *out);
+
+#endif
