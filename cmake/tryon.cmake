@@ -17,7 +17,14 @@ function(tryon_add_test)
   if(T_LABELS)
     set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}")
   endif()
-  if(T_ENV)
-    set_tests_properties(${T_NAME} PROPERTIES ENVIRONMENT "${T_ENV}")
+  set(env ${T_ENV})
+  if(TRYON_SANITIZE)
+    # PoCL and LLVM keep memory until exit by design; tests/lsan.supp names only them.
+    list(APPEND env
+         "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp:print_suppressions=0"
+         "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
+  endif()
+  if(env)
+    set_tests_properties(${T_NAME} PROPERTIES ENVIRONMENT "${env}")
   endif()
 endfunction()
