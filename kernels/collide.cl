@@ -1,0 +1,160 @@
+/* Contacts, response and the penetration metric: twin of sim/collide.c. One work-item per cloth
+ * point. Body arrays as the collider holds them: v, tris (int4), face normals nrm, triangle
+ * across each edge nbr (int4), vertex -> triangles CSR (vt_start, vt_list). */
+
+/* Cached nearest triangle within radius (thickness + reach), -1 if none. */
+__kernel void sim_find_contacts(__global const float4 *x, int begin, int end, int nleaves,
+                                __global const int2 *child, __global const int *order,
+                                __global const float4 *lo, __global const float4 *hi,
+                                __global const float4 *v, __global const int4 *tris, float radius,
+                                __global int *contact)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i >= end)
+        return;
+    float4 q, bary;
+    float dist;
+    contact[i] =
+        sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius, &q, &bary, &dist);
+}
+
+float sim_corner_angle(__global const float4 *v, int4 f, int k)
+{
+    int ip = k == 0 ? f.x : (k == 1 ? f.y : f.z);
+    int ia = k == 0 ? f.y : (k == 1 ? f.z : f.x);
+    int ib = k == 0 ? f.z : (k == 1 ? f.x : f.y);
+    float4 u = sim_sub3(v[ia], v[ip]), w = sim_sub3(v[ib], v[ip]);
+    float cs = sim_dot3(u, w) / sqrt(sim_dot3(u, u) * sim_dot3(w, w));
+    cs = cs > 1.0f ? 1.0f : (cs < -1.0f ? -1.0f : cs);
+    return acos(cs);
+}
+
+/* Baerentzen & Aanaes 2005, twin of sim_collider_pseudo_normal. */
+float4 sim_pseudo_normal(__global const float4 *v, __global const int4 *tris,
+                         __global const float4 *nrm, __global const int4 *nbr,
+                         __global const int *vt_start, __global const int *vt_list, int t,
+                         int region)
+{
+    float4 n = nrm[t];
+    if (region == SIM_REGION_FACE)
+        return (float4)(n.x, n.y, n.z, 0.0f);
+    if (region >= SIM_REGION_E01) {
+        int4 nb = nbr[t];
+        int e = region - SIM_REGION_E01;
+        int o = e == 0 ? nb.x : (e == 1 ? nb.y : nb.z);
+        float4 m = o >= 0 ? nrm[o] : n;
+        return (float4)(n.x + m.x, n.y + m.y, n.z + m.z, 0.0f);
+    }
+    int4 f = tris[t];
+    int c = region - SIM_REGION_V0;
+    int vi = c == 0 ? f.x : (c == 1 ? f.y : f.z);
+    float4 out = (float4)(0.0f, 0.0f, 0.0f, 0.0f);
+    for (int j = vt_start[vi]; j < vt_start[vi + 1]; j++) {
+        int g = vt_list[j];
+        int4 fg = tris[g];
+        int k = fg.x == vi ? 0 : (fg.y == vi ? 1 : 2);
+        float a = sim_corner_angle(v, fg, k);
+        float4 ng = nrm[g];
+        out.x += a * ng.x;
+        out.y += a * ng.y;
+        out.z += a * ng.z;
+    }
+    return out;
+}
+
+/* Out to thickness h along the contact normal, then friction mu bounded by the push. */
+__kernel void sim_resolve(__global float4 *x, __global const float4 *x_prev, int begin, int end,
+                          __global const int *contact, __global const float4 *v,
+                          __global const int4 *tris, __global const float4 *nrm,
+                          __global const int4 *nbr, __global const int *vt_start,
+                          __global const int *vt_list, float h, float mu)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i >= end)
+        return;
+    int t = contact[i];
+    float4 p = x[i];
+    if (t < 0 || p.w == 0.0f)
+        return;
+    int4 f = tris[t];
+    float4 q, bary, n;
+    int region = sim_closest_on_triangle(p, v[f.x], v[f.y], v[f.z], &q, &bary);
+    float4 d = sim_sub3(p, q);
+    float dist;
+    if (region == SIM_REGION_FACE) {
+        n = nrm[t];
+        dist = sim_dot3(d, n);
+    } else {
+        float4 pn = sim_pseudo_normal(v, tris, nrm, nbr, vt_start, vt_list, t, region);
+        float len = sqrt(sim_dot3(d, d));
+        if (sim_dot3(d, pn) >= 0.0f && len > 1e-9f) {
+            n = (float4)(d.x / len, d.y / len, d.z / len, 0.0f);
+            dist = len;
+        } else {
+            float pl = sqrt(sim_dot3(pn, pn));
+            n = (float4)(pn.x / pl, pn.y / pl, pn.z / pl, 0.0f);
+            dist = -len;
+        }
+    }
+    float push = h - dist;
+    if (!(push > 0.0f))
+        return;
+    p.x += push * n.x;
+    p.y += push * n.y;
+    p.z += push * n.z;
+    float4 rel = sim_sub3(p, x_prev[i]);
+    float rn = sim_dot3(rel, n);
+    float4 tan = (float4)(rel.x - rn * n.x, rel.y - rn * n.y, rel.z - rn * n.z, 0.0f);
+    float tl = sqrt(sim_dot3(tan, tan)), limit = mu * push;
+    if (tl > 0.0f) {
+        float keep = tl <= limit ? 1.0f : limit / tl;
+        p.x -= keep * tan.x;
+        p.y -= keep * tan.y;
+        p.z -= keep * tan.z;
+    }
+    x[i] = p;
+}
+
+/* The metric's per-point part: signed distance to the body (unbounded nearest search). */
+__kernel void sim_signed_distance(__global const float4 *x, int n, int nleaves,
+                                  __global const int2 *child, __global const int *order,
+                                  __global const float4 *lo, __global const float4 *hi,
+                                  __global const float4 *v, __global const int4 *tris,
+                                  __global const float4 *nrm, __global const int4 *nbr,
+                                  __global const int *vt_start, __global const int *vt_list,
+                                  __global float *sd)
+{
+    int i = get_global_id(0);
+    if (i >= n)
+        return;
+    float4 p = x[i], q, bary;
+    float dist;
+    int t = sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, p, INFINITY, &q, &bary, &dist);
+    if (t < 0) {
+        sd[i] = INFINITY;
+        return;
+    }
+    int4 f = tris[t];
+    int region = sim_closest_on_triangle(p, v[f.x], v[f.y], v[f.z], &q, &bary);
+    float4 d = sim_sub3(p, q);
+    float len = sqrt(sim_dot3(d, d));
+    if (region == SIM_REGION_FACE) {
+        sd[i] = sim_dot3(d, nrm[t]);
+        return;
+    }
+    float4 pn = sim_pseudo_normal(v, tris, nrm, nbr, vt_start, vt_list, t, region);
+    sd[i] = sim_dot3(d, pn) >= 0.0f ? len : -len;
+}
+
+/* Unit face normals of frame k, twin of face_normals in sim/collide.c. */
+__kernel void sim_face_normals(__global const float4 *v, __global const int4 *tris, int nt,
+                               __global float4 *nrm)
+{
+    int t = get_global_id(0);
+    if (t >= nt)
+        return;
+    int4 f = tris[t];
+    float4 nr = sim_cross3(sim_sub3(v[f.y], v[f.x]), sim_sub3(v[f.z], v[f.x]));
+    float len = sqrt(sim_dot3(nr, nr));
+    nrm[t] = (float4)(nr.x / len, nr.y / len, nr.z / len, 0.0f);
+}
