@@ -98,13 +98,13 @@ static int parse(int argc, char **argv, options *o)
 
 /* A dump replays through fakenect's libfreenect, which must be the one this process loaded:
  * validate, stage, and restart with LD_LIBRARY_PATH and FAKENECT_PATH set. Returns only on
- * failure. */
+ * failure: 3 for a damaged recording, as cap_run's CAP_ERR_RECORDING. */
 static int reexec_with_fakenect(char **argv, const char *dump)
 {
     char staged[512], err[768];
     if (cap_fakenect_stage(dump, staged, sizeof staged, err, sizeof err) != CAP_OK) {
         fprintf(stderr, "tryon-capture: rejected recording: %s\n", err);
-        return 1;
+        return 3;
     }
     const char *old = getenv("LD_LIBRARY_PATH");
     char path[2048];

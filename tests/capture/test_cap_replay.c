@@ -1,0 +1,238 @@
+/* tryon-capture as a separate process replaying fakenect dumps through Debian's fakenect
+ * libfreenect (the live code path), over real LCM on loopback multicast. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cap_harness.h"
+#include "recordings.h"
+
+#define PORT 7681
+
+static char tmpdir[300];
+
+static int setup(void **state)
+{
+    harness *h = h_create(PORT);
+    /* The child's fakenect staging goes here, so the test can see it cleaned up. */
+    snprintf(tmpdir, sizeof tmpdir, "%s-tmp", h->dir);
+    mkdir(tmpdir, 0755);
+    setenv("TMPDIR", tmpdir, 1);
+    *state = h;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    h_destroy(*state);
+    rmdir(tmpdir);
+    return 0;
+}
+
+static int dir_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d)))
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+    if (d)
+        closedir(d);
+    return n;
+}
+
+/* Values, order, count and device timestamps, against the dump. */
+static void check_frames_exact(const harness *h, int n)
+{
+    uint16_t table[REC_RAW_LEVELS];
+    rec_raw_to_mm_table(table);
+    assert_int_equal(h->depth_count, n);
+    for (int k = 0; k < n; k++) {
+        const h_depth *d = &h->depth[k];
+        assert_int_equal(d->seq, k);
+        assert_int_equal(d->device_timestamp, h_timestamp(k));
+        assert_int_equal(d->width, 640);
+        assert_int_equal(d->height, 480);
+        assert_string_equal(d->source, "freenect");
+        assert_true(fabsf(d->metres_per_unit - 0.001f) < 1e-9f);
+        assert_true(fabsf(d->fx - (float)REC_FX) < 1e-3f);
+        for (int i = 0; i < H_PIXELS; i++)
+            if (d->mm[i] != table[h_raw(k, i)])
+                fail_msg("frame %d pixel %d: %u mm, dump says raw %u = %u mm", k, i, d->mm[i],
+                         h_raw(k, i), table[h_raw(k, i)]);
+        if (k > 0)
+            assert_true(d->utime_capture > h->depth[k - 1].utime_capture);
+    }
+}
+
+static void test_dump_arrives_frame_exact_at_realtime(void **state)
+{
+    harness *h = *state;
+    const int n = 10;
+    h_write_dump(h, n, 30.0);
+    const char *args[] = {"--source", "freenect", "--uri", h->dir, NULL};
+    h_start(h, args);
+    int rc = h_wait(h, 8.0);
+    if (rc != 0)
+        fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
+    check_frames_exact(h, n);
+    /* Realtime: capture stamps follow the recorded 1/30 s spacing. */
+    for (int k = 1; k < n; k++) {
+        double got = (h->depth[k].utime_capture - h->depth[0].utime_capture) * 1e-6;
+        double want = k / 30.0;
+        if (fabs(got - want) > 0.015)
+            fail_msg("frame %d stamped %.4f s after frame 0, recorded %.4f s", k, got, want);
+    }
+    assert_int_equal(h->timing_count, n);
+    for (int k = 0; k < n; k++)
+        assert_int_equal(h->timing_seq[k], k);
+    assert_int_equal(dir_entries(tmpdir), 0);
+}
+
+static void test_rate_max_is_fast_and_record_reproduces_the_dump(void **state)
+{
+    harness *h = *state;
+    const int n = 12;
+    h_write_dump(h, n, 30.0);
+    const char *args[] = {"--uri", h->dir, "--rate", "max", "--record", h->out_dir, NULL};
+    h_start(h, args);
+    int rc = h_wait(h, 8.0);
+    if (rc != 0)
+        fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
+    check_frames_exact(h, n);
+    double span = (h->depth[n - 1].utime_capture - h->depth[0].utime_capture) * 1e-6;
+    assert_true(span < 11 / 30.0 * 0.8); /* realtime would take 0.367 s */
+    /* The recording holds the same disparities, timestamps and record times. */
+    rec_index a, b;
+    rec_report why;
+    int frames = 0;
+    assert_int_equal(rec_validate(h->out_dir, &frames, &why), REC_OK);
+    assert_int_equal(frames, n);
+    assert_int_equal(rec_index_read(h->dir, &a, &why), REC_OK);
+    assert_int_equal(rec_index_read(h->out_dir, &b, &why), REC_OK);
+    uint16_t *ra = malloc(H_PIXELS * 2), *rb = malloc(H_PIXELS * 2);
+    for (int k = 0; k < n; k++) {
+        assert_int_equal(a.frames[k].device_timestamp, b.frames[k].device_timestamp);
+        assert_true(fabs(a.frames[k].record_time_s - b.frames[k].record_time_s) < 2e-6);
+        assert_int_equal(rec_frame_read(h->dir, &a.frames[k], k, ra, &why), REC_OK);
+        assert_int_equal(rec_frame_read(h->out_dir, &b.frames[k], k, rb, &why), REC_OK);
+        assert_memory_equal(ra, rb, H_PIXELS * 2);
+    }
+    free(ra);
+    free(rb);
+    rec_index_free(&a);
+    rec_index_free(&b);
+}
+
+static void test_frames_option_stops_early(void **state)
+{
+    harness *h = *state;
+    h_write_dump(h, 8, 30.0);
+    const char *args[] = {"--uri", h->dir, "--rate", "max", "--frames", "3", NULL};
+    h_start(h, args);
+    assert_int_equal(h_wait(h, 8.0), 0);
+    check_frames_exact(h, 3);
+    assert_int_equal(dir_entries(tmpdir), 0);
+}
+
+static void test_sigint_stops_cleanly(void **state)
+{
+    harness *h = *state;
+    h_write_dump(h, 20, 30.0);
+    const char *args[] = {"--uri", h->dir, "--rate", "10", NULL}; /* 2 s in all */
+    h_start(h, args);
+    assert_true(h_wait_frames(h, 2, 5.0) >= 2);
+    pid_t pid = h->child;
+    assert_int_equal(kill(pid, SIGINT), 0);
+    int64_t t0 = bus_now_mono_us();
+    int rc = h_wait(h, 3.0);
+    if (rc != 0)
+        fail_msg("exit %d after SIGINT: %s", rc, h->err_text);
+    assert_true(bus_now_mono_us() - t0 < 500000);
+    assert_true(h->depth_count < 20);
+    assert_non_null(strstr(h->err_text, "stopped by signal"));
+    assert_int_equal(dir_entries(tmpdir), 0);
+}
+
+static void expect_rejected(harness *h, const char *needle1, const char *needle2)
+{
+    const char *args[] = {"--uri", h->dir, "--rate", "max", NULL};
+    h_start(h, args);
+    int rc = h_wait(h, 8.0);
+    if (rc != 3 || !strstr(h->err_text, needle1) || (needle2 && !strstr(h->err_text, needle2)))
+        fail_msg("exit %d, stderr: %s (wanted '%s' and '%s')", rc, h->err_text, needle1,
+                 needle2 ? needle2 : "");
+    assert_int_equal(h->depth_count, 0);
+}
+
+static void test_damaged_recordings_are_rejected_by_name(void **state)
+{
+    harness *h = *state;
+    h_write_dump(h, 4, 30.0);
+    rec_index idx;
+    rec_report why;
+    assert_int_equal(rec_index_read(h->dir, &idx, &why), REC_OK);
+    char path[512];
+    /* Truncated frame 1. */
+    snprintf(path, sizeof path, "%s/%s", h->dir, idx.frames[1].name);
+    assert_int_equal(truncate(path, 1000), 0);
+    expect_rejected(h, idx.frames[1].name, "frame 1");
+    assert_non_null(strstr(h->err_text, "REC_ERR_TRUNCATED"));
+    /* Missing frame 1. */
+    assert_int_equal(unlink(path), 0);
+    expect_rejected(h, idx.frames[1].name, "frame 1");
+    assert_non_null(strstr(h->err_text, "REC_ERR_NO_FRAME"));
+    /* No INDEX.txt. */
+    snprintf(path, sizeof path, "%s/INDEX.txt", h->dir);
+    assert_int_equal(unlink(path), 0);
+    expect_rejected(h, "INDEX.txt", "REC_ERR_NO_INDEX");
+    rec_index_free(&idx);
+    assert_int_equal(dir_entries(tmpdir), 0);
+}
+
+static void test_missing_oni_file_is_named(void **state)
+{
+    harness *h = *state;
+    const char *args[] = {"--source", "openni2", "--uri", "/nonexistent/tryon.oni", NULL};
+    h_start(h, args);
+    int rc = h_wait(h, 8.0);
+    if (rc != 3 || !strstr(h->err_text, "/nonexistent/tryon.oni"))
+        fail_msg("exit %d, stderr: %s", rc, h->err_text);
+}
+
+static void test_unknown_source_and_bad_rate_are_usage_errors(void **state)
+{
+    harness *h = *state;
+    const char *a1[] = {"--source", "kinect9", NULL};
+    h_start(h, a1);
+    assert_int_equal(h_wait(h, 5.0), 2);
+    assert_non_null(strstr(h->err_text, "kinect9"));
+    const char *a2[] = {"--rate", "fast", NULL};
+    h_start(h, a2);
+    assert_int_equal(h_wait(h, 5.0), 2);
+}
+
+int main(void)
+{
+#define T(fn) cmocka_unit_test_setup_teardown(fn, setup, teardown)
+    const struct CMUnitTest tests[] = {
+        T(test_dump_arrives_frame_exact_at_realtime),
+        T(test_rate_max_is_fast_and_record_reproduces_the_dump),
+        T(test_frames_option_stops_early),
+        T(test_sigint_stops_cleanly),
+        T(test_damaged_recordings_are_rejected_by_name),
+        T(test_missing_oni_file_is_named),
+        T(test_unknown_source_and_bad_rate_are_usage_errors),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
