@@ -74,7 +74,7 @@ typedef struct rec_report {
     int frame;
     int line;
     char file[256];
-    char message[512];
+    char message[1024];
 } rec_report;
 
 /* One depth frame listed in INDEX.txt. */

@@ -86,11 +86,12 @@ static void test_dump_arrives_frame_exact_at_realtime(void **state)
     if (rc != 0)
         fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
     check_frames_exact(h, n);
-    /* Realtime: capture stamps follow the recorded 1/30 s spacing. */
+    /* Realtime: never before the recorded time; late only by what a frame costs (generous, for
+     * the sanitizer build on a busy 2-core machine). */
     for (int k = 1; k < n; k++) {
         double got = (h->depth[k].utime_capture - h->depth[0].utime_capture) * 1e-6;
         double want = k / 30.0;
-        if (fabs(got - want) > 0.015)
+        if (got < want - 0.002 || got > want + 0.1)
             fail_msg("frame %d stamped %.4f s after frame 0, recorded %.4f s", k, got, want);
     }
     assert_int_equal(h->timing_count, n);
@@ -103,7 +104,7 @@ static void test_rate_max_is_fast_and_record_reproduces_the_dump(void **state)
 {
     harness *h = *state;
     const int n = 12;
-    h_write_dump(h, n, 30.0);
+    h_write_dump(h, n, 2.0); /* 5.5 s in real time */
     const char *args[] = {"--uri", h->dir, "--rate", "max", "--record", h->out_dir, NULL};
     h_start(h, args);
     int rc = h_wait(h, 8.0);
@@ -111,7 +112,7 @@ static void test_rate_max_is_fast_and_record_reproduces_the_dump(void **state)
         fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
     check_frames_exact(h, n);
     double span = (h->depth[n - 1].utime_capture - h->depth[0].utime_capture) * 1e-6;
-    assert_true(span < 11 / 30.0 * 0.8); /* realtime would take 0.367 s */
+    assert_true(span < 2.0); /* realtime would take 5.5 s */
     /* The recording holds the same disparities, timestamps and record times. */
     rec_index a, b;
     rec_report why;
