@@ -55,7 +55,7 @@ typedef struct fit_shape {
 
 fit_shape fit_shape_default(void); /* an average adult */
 #define FIT_SHAPE_PRESETS 3
-fit_shape fit_shape_preset(int i);  /* 0 = average, 1 = slim tall, 2 = broad short */
+fit_shape fit_shape_preset(int i); /* 0 = average, 1 = slim tall, 2 = broad short */
 const char *fit_shape_preset_name(int i);
 void fit_shape_to_array(const fit_shape *s, float out[FIT_SHAPE_PARAMS]);
 fit_shape fit_shape_from_array(const float in[FIT_SHAPE_PARAMS]);
@@ -83,8 +83,8 @@ void fit_model_destroy(fit_model *m);
 
 int fit_model_vertex_count(const fit_model *m);
 int fit_model_triangle_count(const fit_model *m);
-const int32_t *fit_model_triangles(const fit_model *m);  /* [triangle][3], counter-clockwise seen
-                                                           from outside */
+const int32_t *fit_model_triangles(const fit_model *m);   /* [triangle][3], counter-clockwise seen
+                                                            from outside */
 const float *fit_model_rest_vertices(const fit_model *m); /* [vertex][3] */
 const fit_shape *fit_model_shape(const fit_model *m);
 
@@ -112,5 +112,52 @@ const char *fit_motion_name(fit_motion m);
 int fit_motion_from_name(const char *name); /* -1 if unknown */
 double fit_motion_duration(fit_motion m);   /* seconds; motions loop after this */
 void fit_motion_eval(fit_motion m, double t_s, fit_pose *out);
+
+/* ---- Additions (bodyfit owner): errors, validation, measurement, skin weights. ---- */
+
+/* Errors as values; one list makes the enum and the messages so a test can name the rejection. */
+#define FIT_ERROR_LIST(X)                                                                          \
+    X(FIT_OK, 0, "ok")                                                                             \
+    X(FIT_ERR_ARG, -1, "missing or invalid argument")                                              \
+    X(FIT_ERR_NAN, -2, "value is not finite")                                                      \
+    X(FIT_ERR_RANGE, -3, "value out of range")                                                     \
+    X(FIT_ERR_NOMEM, -4, "out of memory")                                                          \
+    X(FIT_ERR_IO, -5, "file could not be written")                                                 \
+    X(FIT_ERR_MESH, -6, "mesh generation failed")                                                  \
+    X(FIT_ERR_MEASURE, -7, "measurement failed")
+
+#define FIT_ERROR_ENUM(id, code, msg) id = code,
+typedef enum fit_error { FIT_ERROR_LIST(FIT_ERROR_ENUM) } fit_error;
+#undef FIT_ERROR_ENUM
+const char *fit_error_string(int code);
+
+/* Checks every shape parameter against its range (see docs/body-model.md). Returns 0 or a
+ * negative fit_error; err (may be NULL) names the parameter and the range. */
+int fit_shape_validate(const fit_shape *s, char *err, size_t errlen);
+/* Inclusive range of shape parameter i (fit_shape_to_array order), metres. */
+void fit_shape_param_range(int i, float *lo, float *hi);
+const char *fit_shape_param_name(int i);
+
+/* Joint limits: each rotation vector is expressed in the joint's anatomical frame (identity
+ * except the arms, whose frame follows the A-pose arm: local -y along the arm, local x the
+ * flexion hinge), then clamped per component. */
+void fit_joint_limits(fit_joint j, float lo[3], float hi[3]);
+/* World (rest parent) rotation vector from an anatomical one and back. */
+void fit_joint_from_anatomical(fit_joint j, const float anat[3], float rot[3]);
+void fit_joint_to_anatomical(fit_joint j, const float rot[3], float anat[3]);
+
+/* Measured on the rest mesh: girths are perimeters of the slice loop around the torso (chest,
+ * waist, hip: horizontal planes) or the limb (arm, thigh: planes perpendicular to the bone). */
+typedef struct fit_measurements {
+    fit_shape shape;
+    float chest_y, waist_y, hip_y; /* heights of the torso slices, metres */
+} fit_measurements;
+int fit_model_measure(const fit_model *m, fit_measurements *out);
+
+/* Skinning data: FIT_MAX_INFLUENCES joints and weights per vertex (unused slots weight 0). */
+#define FIT_MAX_INFLUENCES 4
+const uint8_t *fit_model_weight_joints(const fit_model *m); /* [vertex][4] */
+const float *fit_model_weights(const fit_model *m);         /* [vertex][4], sum 1 */
+const float *fit_model_rest_joints(const fit_model *m);     /* [joint][3] */
 
 #endif

@@ -1,0 +1,94 @@
+/* tryon-bench-skin: linear-blend skinning time at 6K / 10K / 15K vertices on one core.
+ * Prints a table, then one JSON line. Usage: tryon-bench-skin [RUNS] */
+#include "bodyfit.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#define BENCH_WARMUP 50
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+typedef struct result {
+    int target, verts;
+    double median, p95;
+} result;
+
+/* Poses a walk cycle, a new pose each run, and times fit_model_pose alone. */
+static int run_scene(int target, int runs, result *r)
+{
+    char err[256];
+    fit_model_desc desc = {.shape = fit_shape_default(), .target_vertices = target};
+    fit_model *m = fit_model_create(&desc, err, sizeof err);
+    if (!m) {
+        fprintf(stderr, "tryon-bench-skin: %s\n", err);
+        return 1;
+    }
+    int nv = fit_model_vertex_count(m);
+    float *v = malloc((size_t)nv * 3 * sizeof(float));
+    double *ms = malloc((size_t)runs * sizeof(double));
+    if (!v || !ms) {
+        fprintf(stderr, "tryon-bench-skin: out of memory\n");
+        free(v);
+        free(ms);
+        fit_model_destroy(m);
+        return 1;
+    }
+    fit_pose pose;
+    for (int i = 0; i < BENCH_WARMUP + runs; ++i) {
+        fit_motion_eval(FIT_MOTION_WALK, 0.033 * i, &pose);
+        double t0 = now_ms();
+        fit_model_pose(m, &pose, v, NULL);
+        double t1 = now_ms();
+        if (i >= BENCH_WARMUP)
+            ms[i - BENCH_WARMUP] = t1 - t0;
+    }
+    qsort(ms, (size_t)runs, sizeof(double), cmp_double);
+    r->target = target;
+    r->verts = nv;
+    r->median = ms[runs / 2];
+    r->p95 = ms[(int)(0.95 * (runs - 1))];
+    free(v);
+    free(ms);
+    fit_model_destroy(m);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    int runs = argc > 1 ? atoi(argv[1]) : 2000;
+    if (runs < 10) {
+        fprintf(stderr, "tryon-bench-skin: RUNS must be at least 10\n");
+        return 2;
+    }
+    const int targets[3] = {6000, 10000, 15000};
+    result r[3];
+    for (int i = 0; i < 3; ++i)
+        if (run_scene(targets[i], runs, &r[i]))
+            return 1;
+    printf("skinning (linear blend, 4 influences, 1 core), %d runs after %d warm-up\n", runs,
+           BENCH_WARMUP);
+    printf("%8s %8s %10s %10s\n", "target", "verts", "ms_median", "ms_p95");
+    for (int i = 0; i < 3; ++i)
+        printf("%8d %8d %10.4f %10.4f\n", r[i].target, r[i].verts, r[i].median, r[i].p95);
+    printf("{\"bench\":\"skin\",\"ms_median\":%.4f,\"ms_p95\":%.4f,\"verts\":%d,"
+           "\"iterations\":%d,\"backend\":\"c\",\"device\":\"cpu-1-core\",\"by_verts\":["
+           "{\"verts\":%d,\"ms_median\":%.4f,\"ms_p95\":%.4f},"
+           "{\"verts\":%d,\"ms_median\":%.4f,\"ms_p95\":%.4f},"
+           "{\"verts\":%d,\"ms_median\":%.4f,\"ms_p95\":%.4f}]}\n",
+           r[1].median, r[1].p95, r[1].verts, runs, r[0].verts, r[0].median, r[0].p95, r[1].verts,
+           r[1].median, r[1].p95, r[2].verts, r[2].median, r[2].p95);
+    return 0;
+}
