@@ -288,7 +288,7 @@ int body_mesh_decimate(const body_field *f, body_mesh *m, int target)
             return rc;
         if (done < m->nv / 100)
             factor *= 1.3f;
-        if (pass % 2 == 1)
+        if (pass % 4 == 3)
             body_mesh_smooth(f, m, 1);
     }
     return 0;

