@@ -89,7 +89,7 @@ void sim_merge_box(volatile __global float4 *lo, volatile __global float4 *hi, i
     hi[node] = fmax(c, d);
 }
 
-/* Leaf boxes (static: frame k; swept: k-1 with k; both padded), then bottom-up: the second
+/* Leaf boxes (static: frame k, tight; swept: k-1 with k, padded), then bottom-up: the second
    child to arrive at a node builds its box. Counters are never reset: every refit adds exactly
    two to each, so an odd old value means "second". Boxes are read through volatile pointers and
    written before a fence so the sibling's box is seen complete. */
@@ -110,8 +110,8 @@ __kernel void sim_bvh_refit(__global const float4 *v_prev, __global const float4
     float4 pa = v_prev[f.x], pb = v_prev[f.y], pc = v_prev[f.z];
     float4 sl = fmin(l, fmin(pa, fmin(pb, pc))), sh = fmax(h, fmax(pa, fmax(pb, pc)));
     float4 pad4 = (float4)(pad, pad, pad, 0.0f);
-    lo[node] = (float4)(l.xyz - pad4.xyz, 0.0f);
-    hi[node] = (float4)(h.xyz + pad4.xyz, 0.0f);
+    lo[node] = (float4)(l.xyz, 0.0f);
+    hi[node] = (float4)(h.xyz, 0.0f);
     slo[node] = (float4)(sl.xyz - pad4.xyz, 0.0f);
     shi[node] = (float4)(sh.xyz + pad4.xyz, 0.0f);
     if (n == 1)

@@ -208,8 +208,8 @@ static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float
     for (int k = 0; k < 3; k++) {
         float a = v[t[0]][k], c = v[t[1]][k], e = v[t[2]][k];
         float lo = fminf(a, fminf(c, e)), hi = fmaxf(a, fmaxf(c, e));
-        b->lo[node][k] = lo - pad_m;
-        b->hi[node][k] = hi + pad_m;
+        b->lo[node][k] = lo;
+        b->hi[node][k] = hi;
         a = v_prev[t[0]][k], c = v_prev[t[1]][k], e = v_prev[t[2]][k];
         b->slo[node][k] = fminf(lo, fminf(a, fminf(c, e))) - pad_m;
         b->shi[node][k] = fmaxf(hi, fmaxf(a, fmaxf(c, e))) + pad_m;
@@ -229,6 +229,7 @@ void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
                    const int32_t (*tris)[4], float pad_m)
 {
     int n = b->n;
+    b->pad = pad_m;
     if (n <= 1) {
         if (n == 1)
             leaf_box(b, 0, v_prev, v, tris, pad_m);
@@ -272,10 +273,31 @@ static float box_dist2(const float lo[4], const float hi[4], const float p[3])
 int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                     const float p[3], float radius_m, float q[3], float bary[3], float *dist_m)
 {
+    return sim_bvh_nearest_from(b, v, tris, p, radius_m, -1, q, bary, dist_m);
+}
+
+int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                         const float p[3], float radius_m, int hint, float q[3], float bary[3],
+                         float *dist_m)
+{
     int best = -1;
     float best_d2 = radius_m * radius_m;
     if (b->n < 1)
         return -1;
+    if (hint >= 0 && hint < b->n) {
+        /* The hint only shrinks the search ball: a node is pruned when strictly farther than the
+           best so far, so ties are still visited and the answer is the hint-free one. */
+        float cq[3], cb[3];
+        sim_closest_on_triangle(p, v[tris[hint][0]], v[tris[hint][1]], v[tris[hint][2]], cq, cb);
+        float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
+        float d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 <= best_d2) {
+            best = hint;
+            best_d2 = d2;
+            memcpy(q, cq, sizeof cq);
+            memcpy(bary, cb, sizeof cb);
+        }
+    }
     int stack[BVH_STACK], top = 0;
     stack[top++] = 0;
     while (top > 0) {
@@ -315,16 +337,18 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
     return best;
 }
 
-static int box_contains(const float lo[4], const float hi[4], const float p[3])
+/* p inside the box grown by pad (0 for the swept boxes, which are stored padded). */
+static int box_contains(const float lo[4], const float hi[4], float pad, const float p[3])
 {
-    return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] &&
-           p[2] <= hi[2];
+    return p[0] >= lo[0] - pad && p[0] <= hi[0] + pad && p[1] >= lo[1] - pad &&
+           p[1] <= hi[1] + pad && p[2] >= lo[2] - pad && p[2] <= hi[2] + pad;
 }
 
 int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *out, int max_out)
 {
     float(*lo)[4] = swept ? b->slo : b->lo;
     float(*hi)[4] = swept ? b->shi : b->hi;
+    float pad = swept ? 0.0f : b->pad;
     int found = 0;
     if (b->n < 1)
         return 0;
@@ -332,7 +356,7 @@ int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *o
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if (!box_contains(lo[node], hi[node], p))
+        if (!box_contains(lo[node], hi[node], pad, p))
             continue;
         int leaf = leaf_of(b, node);
         if (leaf >= 0) {

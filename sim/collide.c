@@ -11,6 +11,8 @@
 #define DEFAULT_REACH_M                                                                            \
     0.03f /* 3 cm: a wrist at 3 m/s moves 10 cm a frame, but the feature                           \
              points carry the swept cloth; contacts only need the rest */
+/* Steps of the contact walk: a point moves a few triangles at most between searches. */
+#define WALK_MAX_STEPS 8
 /* Twice the area (m^2) below which a triangle is degenerate: a 0.1 mm sliver of a 1 mm edge. */
 #define DEGENERATE_2AREA_M2 1e-10f
 
@@ -413,8 +415,78 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
 #pragma omp parallel for schedule(static)
     for (int i = begin; i < end; i++) {
         float q[3], bary[3], dist;
-        c->contact[i] =
-            c->nt > 0 ? sim_bvh_nearest(&c->bvh, v, tris, x[i], reach, q, bary, &dist) : -1;
+        c->contact[i] = c->nt > 0 ? sim_bvh_nearest_from(&c->bvh, v, tris, x[i], reach,
+                                                         c->contact[i], q, bary, &dist)
+                                  : -1;
+    }
+}
+
+/* Squared distance from p to triangle t and the region of its closest point. */
+static float tri_dist2(const sim_collider *c, int t, const float p[3], int *region)
+{
+    float q[3], bary[3], d[3];
+    const int32_t *f = c->tris[t];
+    *region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    sub3(p, q, d);
+    return dot3(d, d);
+}
+
+/* Greedy descent over the body surface from triangle t: while the closest point lies on an edge
+   or a vertex, try the triangles around that feature's vertices and move to the nearest. Ends at
+   a local minimum of the distance (the global one on a smooth patch). */
+static int walk_nearest(const sim_collider *c, const float p[3], int t, float *d2_out)
+{
+    int region;
+    float d2 = tri_dist2(c, t, p, &region);
+    for (int step = 0; step < WALK_MAX_STEPS && region != SIM_REGION_FACE; step++) {
+        int verts[2], nvert = 1;
+        if (region <= SIM_REGION_V2) {
+            verts[0] = c->tris[t][region - SIM_REGION_V0];
+        } else {
+            int e = region - SIM_REGION_E01;
+            verts[0] = c->tris[t][e];
+            verts[1] = c->tris[t][(e + 1) % 3];
+            nvert = 2;
+        }
+        int best = t, best_region = region;
+        float best_d2 = d2;
+        for (int k = 0; k < nvert; k++)
+            for (int j = c->vt_start[verts[k]]; j < c->vt_start[verts[k] + 1]; j++) {
+                int o = c->vt_list[j], r;
+                if (o == best)
+                    continue;
+                float od2 = tri_dist2(c, o, p, &r);
+                if (od2 < best_d2 || (od2 == best_d2 && o < best)) {
+                    best = o, best_d2 = od2, best_region = r;
+                }
+            }
+        if (best == t)
+            break;
+        t = best, d2 = best_d2, region = best_region;
+    }
+    *d2_out = d2;
+    return t;
+}
+
+void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin, int end)
+{
+    if (!c || !x || c->nt == 0)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+    float reach = c->d.thickness_m + c->d.reach_m;
+    const float(*v)[4] = (const float(*)[4])c->v;
+    const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
+#pragma omp parallel for schedule(static)
+    for (int i = begin; i < end; i++) {
+        int t = c->contact[i];
+        if (t >= 0 && t < c->nt) {
+            float d2;
+            t = walk_nearest(c, x[i], t, &d2);
+            c->contact[i] = d2 <= reach * reach ? t : -1;
+        } else {
+            float q[3], bary[3], dist;
+            c->contact[i] = sim_bvh_nearest(&c->bvh, v, tris, x[i], reach, q, bary, &dist);
+        }
     }
 }
 
@@ -490,7 +562,8 @@ int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, 
 #pragma omp parallel for schedule(static) reduction(+ : cnt) reduction(max : deepest)
         for (int i = 0; i < n; i++) {
             float q[3], bary[3], dist;
-            int t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+            int hint = i < c->max_cloth ? c->contact[i] : -1;
+            int t = sim_bvh_nearest_from(&c->bvh, v, tris, x[i], INFINITY, hint, q, bary, &dist);
             if (t < 0)
                 continue;
             float sd = sim_collider_signed_distance(c, t, x[i]);

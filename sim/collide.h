@@ -72,6 +72,14 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
    are ignored. */
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
 
+/* Cheap refresh between searches: from each cached triangle, walk over the body surface to the
+   locally nearest triangle (-1 when it is beyond reach); points without a cached triangle get
+   the full search. Exact outside a smooth patch (inside, any face may be a local minimum, which
+   still pushes the point out of that face); a different body part coming nearer is only seen by
+   sim_collider_find_contacts (or as a feature point), so call that once per frame and this in
+   the iterations. */
+void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
+
 /* Push points out to thickness along the contact normal (face normal, or the pseudo-normal at
    edges and vertices of the cached triangle), then friction: cancel the tangential motion
    relative to the body (x - x_prev) up to friction * the normal correction. Never pulls a point
@@ -124,8 +132,10 @@ struct sim_bvh {
     int32_t *order;             /* sorted leaf -> triangle */
     int32_t (*child)[2];        /* per internal node */
     int32_t *parent;            /* per node, -1 at the root */
-    float (*lo)[4], (*hi)[4];   /* static boxes (frame k, inflated by thickness), per node */
-    float (*slo)[4], (*shi)[4]; /* swept boxes (k-1 with k, inflated), per node */
+    float (*lo)[4], (*hi)[4];   /* static boxes (frame k), per node: inflated by pad when
+                                   queried, tight for the nearest-triangle search */
+    float (*slo)[4], (*shi)[4]; /* swept boxes (k-1 with k, inflated by pad), per node */
+    float pad;                  /* the thickness, m */
     int *counter;               /* per internal node, for the bottom-up refit */
     uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
 };
@@ -149,8 +159,14 @@ uint32_t sim_morton3(float x, float y, float z);
 int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                     const float p[3], float radius_m, float q[3], float bary[3], float *dist_m);
 
-/* Triangles whose leaf box (static, or swept when swept != 0) contains p, up to max_out of them
-   written to out; returns how many contain p (which may exceed max_out). */
+/* The same answer, found faster when hint (a triangle index, or -1) is near p: its distance
+   starts as the bound (the contact cache from the last search is a good hint). */
+int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                         const float p[3], float radius_m, int hint, float q[3], float bary[3],
+                         float *dist_m);
+
+/* Triangles whose leaf box (static, or swept when swept != 0; both inflated by pad) contains p, up
+   to max_out of them written to out; returns how many contain p (which may exceed max_out). */
 int sim_bvh_containing(const sim_bvh *b, const float p[3], int swept, int32_t *out, int max_out);
 
 /* ---- The collider's state (private to sim/: collide.c, feature_points.c, cl_backend.c) ------ */

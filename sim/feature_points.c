@@ -142,6 +142,8 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
             x[i][k] = p[k];
             x_prev[i][k] += step; /* same displacement: the point keeps its velocity */
         }
+        if (i < c->max_cloth)
+            c->contact[i] = t; /* the carrying triangle is the point's contact now */
         moved++;
     }
     return moved;

@@ -180,6 +180,73 @@ static void test_collide_resolve_clears_sphere_shell(void **state)
     sim_collider_destroy(c);
 }
 
+/* On a convex body the walk from the cached triangle ends at the searched nearest triangle. */
+static void test_collide_track_contacts_matches_search_on_smooth_body(void **state)
+{
+    (void)state;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    tc_sphere(0.15f, 48, 24, &xyz, &nv, &tris, &nt);
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    static float x[N][4];
+    uint32_t s = 8u;
+    for (int i = 0; i < N; i++) {
+        float dir[3], len;
+        do {
+            for (int k = 0; k < 3; k++)
+                dir[k] = tc_range(&s, -1.0f, 1.0f);
+            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        } while (len < 0.1f || len > 1.0f);
+        float rad = tc_range(&s, 0.15f, 0.17f);
+        for (int k = 0; k < 3; k++)
+            x[i][k] = dir[k] / len * rad;
+        x[i][3] = 1.0f;
+    }
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+    /* Every point slides up to 1.5 cm (a few triangles) along the surface, staying outside: inside
+       a body every face is a local minimum of the distance, and the walk may stop at any. */
+    for (int i = 0; i < N; i++) {
+        float r0 = sqrtf(x[i][0] * x[i][0] + x[i][1] * x[i][1] + x[i][2] * x[i][2]);
+        for (int k = 0; k < 3; k++)
+            x[i][k] += tc_range(&s, -0.008f, 0.008f);
+        float r1 = sqrtf(x[i][0] * x[i][0] + x[i][1] * x[i][1] + x[i][2] * x[i][2]);
+        for (int k = 0; k < 3; k++)
+            x[i][k] *= r0 / r1;
+    }
+    sim_collider_track_contacts(c, (const float(*)[4])x, 0, N);
+    int32_t tracked[N];
+    memcpy(tracked, sim_collider_contacts(c), sizeof tracked);
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+    const int32_t *searched = sim_collider_contacts(c);
+    const float(*v)[4], (*vp)[4], (*n)[4];
+    const int32_t(*t)[4];
+    sim_collider_body(c, &v, &vp, &t, &n);
+    int same = 0;
+    for (int i = 0; i < N; i++) {
+        assert_int_equal(tracked[i] >= 0, searched[i] >= 0);
+        if (searched[i] < 0)
+            continue;
+        /* Equal distances (a tie between triangles at a shared vertex may pick either). */
+        float q[3], b[3], da, db;
+        sim_closest_on_triangle(x[i], v[t[tracked[i]][0]], v[t[tracked[i]][1]], v[t[tracked[i]][2]],
+                                q, b);
+        da = sqrtf((x[i][0] - q[0]) * (x[i][0] - q[0]) + (x[i][1] - q[1]) * (x[i][1] - q[1]) +
+                   (x[i][2] - q[2]) * (x[i][2] - q[2]));
+        sim_closest_on_triangle(x[i], v[t[searched[i]][0]], v[t[searched[i]][1]],
+                                v[t[searched[i]][2]], q, b);
+        db = sqrtf((x[i][0] - q[0]) * (x[i][0] - q[0]) + (x[i][1] - q[1]) * (x[i][1] - q[1]) +
+                   (x[i][2] - q[2]) * (x[i][2] - q[2]));
+        assert_float_equal(da, db, 1e-6f);
+        same += tracked[i] == searched[i];
+    }
+    assert_true(same > N * 9 / 10);
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -187,6 +254,7 @@ int main(void)
         cmocka_unit_test(test_collide_friction_bounded_by_push),
         cmocka_unit_test(test_collide_penetration_matches_analytic_sphere),
         cmocka_unit_test(test_collide_resolve_clears_sphere_shell),
+        cmocka_unit_test(test_collide_track_contacts_matches_search_on_smooth_body),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
