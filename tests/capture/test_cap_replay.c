@@ -201,6 +201,33 @@ static void test_damaged_recordings_are_rejected_by_name(void **state)
     assert_int_equal(dir_entries(tmpdir), 0);
 }
 
+static void test_committed_sample_replays_frame_exact(void **state)
+{
+    harness *h = *state;
+    const char *dir = TRYON_SAMPLES_DIR "/fast_swing_s1";
+    rec_index idx;
+    rec_report why;
+    assert_int_equal(rec_index_read(dir, &idx, &why), REC_OK);
+    const char *args[] = {"--uri", dir, NULL};
+    h_start(h, args);
+    int rc = h_wait(h, 8.0);
+    if (rc != 0)
+        fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
+    assert_int_equal(h->depth_count, idx.count);
+    uint16_t table[REC_RAW_LEVELS], *raw = malloc(H_PIXELS * 2);
+    rec_raw_to_mm_table(table);
+    for (int k = 0; k < idx.count; k++) {
+        assert_int_equal(rec_frame_read(dir, &idx.frames[k], k, raw, &why), REC_OK);
+        assert_int_equal(h->depth[k].seq, k);
+        assert_int_equal(h->depth[k].device_timestamp, idx.frames[k].device_timestamp);
+        for (int i = 0; i < H_PIXELS; i++)
+            if (h->depth[k].mm[i] != table[raw[i]])
+                fail_msg("frame %d pixel %d differs", k, i);
+    }
+    free(raw);
+    rec_index_free(&idx);
+}
+
 static void test_missing_oni_file_is_named(void **state)
 {
     harness *h = *state;
@@ -232,6 +259,7 @@ int main(void)
         T(test_frames_option_stops_early),
         T(test_sigint_stops_cleanly),
         T(test_damaged_recordings_are_rejected_by_name),
+        T(test_committed_sample_replays_frame_exact),
         T(test_missing_oni_file_is_named),
         T(test_unknown_source_and_bad_rate_are_usage_errors),
     };
