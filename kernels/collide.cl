@@ -63,15 +63,12 @@ float4 sim_pseudo_normal(__global const float4 *v, __global const int4 *tris,
 }
 
 /* Out to thickness h along the contact normal, then friction mu bounded by the push. */
-__kernel void sim_resolve(__global float4 *x, __global const float4 *x_prev, int begin, int end,
-                          __global const int *contact, __global const float4 *v,
-                          __global const int4 *tris, __global const float4 *nrm,
-                          __global const int4 *nbr, __global const int *vt_start,
-                          __global const int *vt_list, float h, float mu)
+void sim_resolve_one(__global float4 *x, __global const float4 *x_prev, int i,
+                     __global const int *contact, __global const float4 *v,
+                     __global const int4 *tris, __global const float4 *nrm,
+                     __global const int4 *nbr, __global const int *vt_start,
+                     __global const int *vt_list, float h, float mu)
 {
-    int i = begin + (int)get_global_id(0);
-    if (i >= end)
-        return;
     int t = contact[i];
     float4 p = x[i];
     if (t < 0 || p.w == 0.0f)
@@ -113,6 +110,17 @@ __kernel void sim_resolve(__global float4 *x, __global const float4 *x_prev, int
         p.z -= keep * tan.z;
     }
     x[i] = p;
+}
+
+__kernel void sim_resolve(__global float4 *x, __global const float4 *x_prev, int begin, int end,
+                          __global const int *contact, __global const float4 *v,
+                          __global const int4 *tris, __global const float4 *nrm,
+                          __global const int4 *nbr, __global const int *vt_start,
+                          __global const int *vt_list, float h, float mu)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i < end)
+        sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
 }
 
 /* The metric's per-point part: signed distance to the body (unbounded nearest search). */

@@ -1,0 +1,187 @@
+/* The solver kernels, twins of sim/springs.c (SIM-A's C functions): same names, same order of
+ * operations, one work-item per vertex or spring. sim_iterations_tryon runs a whole frame of the
+ * tryon solver in ONE work-group, with barriers between the passes instead of kernel launches:
+ * on PoCL a launch costs 10-50 us and a frame has about 30 passes x 25 iterations. */
+
+/* x' = x + (x - x_prev) keep + a dt^2; pinned (w = 0) stays. */
+void sim_verlet_one(__global float4 *x, __global float4 *x_prev, int i, float keep, float4 a)
+{
+    float4 xi = x[i], xp = x_prev[i];
+    if (xi.w == 0.0f)
+        return;
+    float vx = (xi.x - xp.x) * keep, vy = (xi.y - xp.y) * keep, vz = (xi.z - xp.z) * keep;
+    x_prev[i] = (float4)(xi.x, xi.y, xi.z, xp.w);
+    x[i] = (float4)(xi.x + vx + a.x, xi.y + vy + a.y, xi.z + vz + a.z, xi.w);
+}
+
+/* Move the ends of spring (i, j) by d c wi and -d c wj. */
+void sim_move_ends(__global float4 *x, int i, int j, float4 d, float c, float wi, float wj)
+{
+    float4 a = x[i], b = x[j];
+    x[i] = (float4)(a.x + d.x * c * wi, a.y + d.y * c * wi, a.z + d.z * c * wi, a.w);
+    x[j] = (float4)(b.x - d.x * c * wj, b.y - d.y * c * wj, b.z - d.z * c * wj, b.w);
+}
+
+/* XPBD distance constraint, one Gauss-Seidel step (sim_project_springs). */
+void sim_project_spring(__global float4 *x, __global const int2 *ends, __global const float *rest,
+                        __global const uchar *kind, float4 alpha, int s)
+{
+    int i = ends[s].x, j = ends[s].y;
+    float wi = x[i].w, wj = x[j].w;
+    int k = kind[s];
+    float al = k == 0 ? alpha.x : (k == 1 ? alpha.y : alpha.z);
+    float wsum = wi + wj + al;
+    if (wi + wj == 0.0f)
+        return;
+    float4 d = (float4)(x[j].x - x[i].x, x[j].y - x[i].y, x[j].z - x[i].z, 0.0f);
+    float len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    if (len < 1e-9f)
+        return;
+    float c = (len - rest[s]) / (len * wsum);
+    sim_move_ends(x, i, j, d, c, wi, wj);
+}
+
+/* Stretch springs clamped to rest (1 + limit) (sim_strain_limit). */
+void sim_strain_limit_one(__global float4 *x, __global const int2 *ends, __global const float *rest,
+                          __global const uchar *kind, int s, float limit)
+{
+    if (kind[s] != 0)
+        return;
+    int i = ends[s].x, j = ends[s].y;
+    float wi = x[i].w, wj = x[j].w;
+    float wsum = wi + wj;
+    if (wsum == 0.0f)
+        return;
+    float4 d = (float4)(x[j].x - x[i].x, x[j].y - x[i].y, x[j].z - x[i].z, 0.0f);
+    float len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    float lmax = rest[s] * (1.0f + limit);
+    if (len <= lmax)
+        return;
+    float c = (len - lmax) / (len * wsum);
+    sim_move_ends(x, i, j, d, c, wi, wj);
+}
+
+/* Long-range attachment of vertex i to its anchor (sim_tethers). */
+void sim_tether_one(__global float4 *x, __global const int *anchor, __global const float *len,
+                    int i, float limit)
+{
+    int a = anchor[i];
+    if (a < 0 || x[i].w == 0.0f)
+        return;
+    float4 p = x[i], q = x[a];
+    float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+    float l = sqrt(dx * dx + dy * dy + dz * dz);
+    float lmax = len[i] * (1.0f + limit);
+    if (l <= lmax)
+        return;
+    float c = (l - lmax) / l;
+    x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
+}
+
+/* The layout of sim_attachment (sim/sim.h). */
+typedef struct sim_attachment {
+    int vertex;
+    int body_triangle;
+    float bary[3];
+    float offset_m;
+} sim_attachment;
+
+/* Attached vertices follow their body triangle; x_prev keeps where they were. */
+__kernel void sim_place_attachments(__global float4 *x, __global float4 *x_prev,
+                                    __global const sim_attachment *at, int n,
+                                    __global const float4 *v, __global const int4 *tris,
+                                    __global const float4 *nrm)
+{
+    int a = get_global_id(0);
+    if (a >= n)
+        return;
+    sim_attachment t = at[a];
+    int4 f = tris[t.body_triangle];
+    float4 p = x[t.vertex], n4 = nrm[t.body_triangle];
+    float4 v0 = v[f.x], v1 = v[f.y], v2 = v[f.z];
+    x_prev[t.vertex] = (float4)(p.x, p.y, p.z, x_prev[t.vertex].w);
+    x[t.vertex] =
+        (float4)(t.bary[0] * v0.x + t.bary[1] * v1.x + t.bary[2] * v2.x + t.offset_m * n4.x,
+                 t.bary[0] * v0.y + t.bary[1] * v1.y + t.bary[2] * v2.y + t.offset_m * n4.y,
+                 t.bary[0] * v0.z + t.bary[1] * v1.z + t.bary[2] * v2.z + t.offset_m * n4.z, p.w);
+}
+
+/* One pass each, for the twin tests. */
+__kernel void sim_verlet(__global float4 *x, __global float4 *x_prev, int begin, int end,
+                         float keep, float4 a)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i < end)
+        sim_verlet_one(x, x_prev, i, keep, a);
+}
+
+__kernel void sim_project_springs(__global float4 *x, __global const int2 *ends,
+                                  __global const float *rest, __global const uchar *kind,
+                                  float4 alpha, int begin, int end)
+{
+    int s = begin + (int)get_global_id(0);
+    if (s < end)
+        sim_project_spring(x, ends, rest, kind, alpha, s);
+}
+
+__kernel void sim_strain_limit(__global float4 *x, __global const int2 *ends,
+                               __global const float *rest, __global const uchar *kind, int begin,
+                               int end, float limit)
+{
+    int s = begin + (int)get_global_id(0);
+    if (s < end)
+        sim_strain_limit_one(x, ends, rest, kind, s, limit);
+}
+
+__kernel void sim_tethers(__global float4 *x, __global const int *anchor, __global const float *len,
+                          int begin, int end, float limit)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i < end)
+        sim_tether_one(x, anchor, len, i, limit);
+}
+
+/* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
+   work-group: contacts every contact_every steps, Verlet, XPBD springs colour by colour,
+   tethers, strain limiting colour by colour, collision response. */
+__kernel void sim_iterations_tryon(
+    __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
+    __global const float *rest, __global const uchar *kind, __global const int *color_start,
+    int num_colors, int num_stretch_colors, float4 alpha, __global const int *tether_anchor,
+    __global const float *tether_len, float limit, float keep, float4 g, int iters,
+    int contact_every, int nleaves, __global const int2 *child, __global const int *order,
+    __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
+    __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
+    __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
+    __global int *contact)
+{
+    int lid = get_local_id(0), L = get_local_size(0);
+    for (int it = 0; it < iters; it++) {
+        for (int i = lid; i < nv; i += L) {
+            if (it > 0 && it % contact_every == 0) {
+                float4 q, bary;
+                float dist;
+                contact[i] = sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius,
+                                             &q, &bary, &dist);
+            }
+            sim_verlet_one(x, x_prev, i, keep, g);
+        }
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        for (int col = 0; col < num_colors; col++) {
+            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+                sim_project_spring(x, ends, rest, kind, alpha, s);
+            barrier(CLK_GLOBAL_MEM_FENCE);
+        }
+        for (int i = lid; i < nv; i += L)
+            sim_tether_one(x, tether_anchor, tether_len, i, limit);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        for (int col = 0; col < num_stretch_colors; col++) {
+            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+                sim_strain_limit_one(x, ends, rest, kind, s, limit);
+            barrier(CLK_GLOBAL_MEM_FENCE);
+        }
+        for (int i = lid; i < nv; i += L)
+            sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+}

@@ -1,0 +1,284 @@
+/* The OpenCL backend (sim_backend_ops): the per-frame work of the tryon solver on an OpenCL
+ * device, twin of sim/solver_c.c. Per frame: the new body vertices up, face normals and refit,
+ * feature points, attachments, contacts, then ONE kernel running every iteration in one
+ * work-group (kernels/springs.cl sim_iterations_tryon), then x and x_prev back to the host.
+ * About ten commands a frame however many iterations and colours. The seed solver variant runs on
+ * the C backend only. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cl_collide.h"
+#include "cloth.h"
+
+/* Work-group size cap of the iterations kernel: every work-item strides over vertices and
+   springs; larger groups only add barrier cost on a CPU device. */
+#define ITER_GROUP_MAX 1024
+
+typedef struct cl_state {
+    sim_cl cl;
+    sim_cl_collide g;
+    cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach;
+    cl_kernel k_iter, k_attach;
+    size_t group;
+    int32_t *moved; /* host copy of the per-point flags */
+    char name[200];
+} cl_state;
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static void cl_destroy(void *state)
+{
+    cl_state *c = state;
+    if (!c)
+        return;
+    if (c->k_iter)
+        clReleaseKernel(c->k_iter);
+    if (c->k_attach)
+        clReleaseKernel(c->k_attach);
+    cl_mem ms[] = {c->x,           c->x_prev, c->ends, c->rest,  c->kind,
+                   c->color_start, c->anchor, c->tlen, c->attach};
+    for (size_t i = 0; i < sizeof ms / sizeof ms[0]; i++)
+        if (ms[i])
+            clReleaseMemObject(ms[i]);
+    sim_cl_collide_destroy(&c->g);
+    sim_cl_close(&c->cl);
+    free(c->moved);
+    free(c);
+}
+
+/* A read-only buffer holding a copy of src (at least 16 bytes so empty arrays are valid). */
+static cl_mem const_buffer(const sim_cl *cl, size_t bytes, const void *src, cl_int *st)
+{
+    if (*st != CL_SUCCESS)
+        return NULL;
+    static const char zero[16];
+    /* COPY_HOST_PTR only reads the pointer; the API just is not const-qualified. */
+    void *from = (void *)(uintptr_t)(bytes ? src : (const void *)zero);
+    return clCreateBuffer(cl->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          bytes ? bytes : sizeof zero, from, st);
+}
+
+static int cl_upload(void *state, const struct sim *s)
+{
+    cl_state *c = state;
+    size_t bytes = (size_t)s->cloth.nv * 16;
+    cl_int st =
+        clEnqueueWriteBuffer(c->cl.queue, c->x, CL_FALSE, 0, bytes, s->cloth.x, 0, NULL, NULL);
+    if (st == CL_SUCCESS)
+        st = clEnqueueWriteBuffer(c->cl.queue, c->x_prev, CL_TRUE, 0, bytes, s->cloth.x_prev, 0,
+                                  NULL, NULL);
+    return st == CL_SUCCESS ? 0 : -SIM_ERR_BACKEND;
+}
+
+static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
+{
+    const sim_cloth *k = &s->cloth;
+    cl_state *c = calloc(1, sizeof *c);
+    if (!c || !(c->moved = calloc((size_t)k->nv, sizeof *c->moved))) {
+        free(c);
+        snprintf(err, err_size, "OpenCL backend: out of memory");
+        return -SIM_ERR_NO_MEMORY;
+    }
+    const char *files[] = {SIM_CL_COLLIDE_FILES, "springs.cl"};
+    if (sim_cl_open(&c->cl, err, err_size) != 0 || sim_cl_build(&c->cl, files, 4, err, err_size) ||
+        sim_cl_collide_create(&c->g, &c->cl, s->desc.max_body_vertices, s->desc.max_body_triangles,
+                              k->nv, err, err_size) != 0)
+        goto fail;
+    cl_int st = CL_SUCCESS;
+    size_t nv = (size_t)k->nv, ns = (size_t)k->ns;
+    c->x = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, nv * 16, NULL, &st);
+    if (st == CL_SUCCESS)
+        c->x_prev = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, nv * 16, NULL, &st);
+    c->ends = const_buffer(&c->cl, ns * 8, k->ends, &st);
+    c->rest = const_buffer(&c->cl, ns * 4, k->rest, &st);
+    c->kind = const_buffer(&c->cl, ns, k->kind, &st);
+    c->color_start = const_buffer(&c->cl, (size_t)(k->num_colors + 1) * 4, k->color_start, &st);
+    /* No tethers: every anchor -1, so the kernel needs no special case. */
+    int32_t *none = k->tether_anchor ? NULL : malloc(nv * 4);
+    float *zero = k->tether_len ? NULL : calloc(nv, 4);
+    if (!k->tether_anchor && (!none || !zero)) {
+        free(none);
+        free(zero);
+        snprintf(err, err_size, "OpenCL backend: out of memory");
+        goto fail;
+    }
+    for (size_t i = 0; none && i < nv; i++)
+        none[i] = -1;
+    c->anchor = const_buffer(&c->cl, nv * 4, none ? none : k->tether_anchor, &st);
+    c->tlen = const_buffer(&c->cl, nv * 4, zero ? (const void *)zero : k->tether_len, &st);
+    free(none);
+    free(zero);
+    c->attach = const_buffer(&c->cl, (size_t)k->num_attachments * sizeof(sim_attachment),
+                             k->attachments, &st);
+    if (st != CL_SUCCESS) {
+        snprintf(err, err_size, "OpenCL backend: cloth buffers: %s", sim_cl_status_name(st));
+        goto fail;
+    }
+    if (!(c->k_iter = sim_cl_kernel(&c->cl, "sim_iterations_tryon", err, err_size)) ||
+        !(c->k_attach = sim_cl_kernel(&c->cl, "sim_place_attachments", err, err_size)))
+        goto fail;
+    size_t wg = 1;
+    st = clGetKernelWorkGroupInfo(c->k_iter, c->cl.device, CL_KERNEL_WORK_GROUP_SIZE, sizeof wg,
+                                  &wg, NULL);
+    if (st != CL_SUCCESS) {
+        snprintf(err, err_size, "OpenCL backend: work-group size: %s", sim_cl_status_name(st));
+        goto fail;
+    }
+    c->group = wg < ITER_GROUP_MAX ? wg : ITER_GROUP_MAX;
+    snprintf(c->name, sizeof c->name, "OpenCL %s", c->cl.device_name);
+    if (cl_upload(c, s) != 0) {
+        snprintf(err, err_size, "OpenCL backend: uploading the cloth failed");
+        goto fail;
+    }
+    *state = c;
+    return 0;
+fail:
+    cl_destroy(c);
+    return -SIM_ERR_BACKEND;
+}
+
+#define ARG(k, i, v) clSetKernelArg((k), (i), sizeof(v), &(v))
+
+static cl_int attachments(cl_state *c, const sim_cloth *k)
+{
+    if (k->num_attachments == 0)
+        return CL_SUCCESS;
+    cl_kernel a = c->k_attach;
+    cl_int st = ARG(a, 0, c->x);
+    st |= ARG(a, 1, c->x_prev);
+    st |= ARG(a, 2, c->attach);
+    st |= ARG(a, 3, k->num_attachments);
+    st |= ARG(a, 4, c->g.v);
+    st |= ARG(a, 5, c->g.tris);
+    st |= ARG(a, 6, c->g.n);
+    if (st != CL_SUCCESS)
+        return CL_INVALID_KERNEL_ARGS;
+    size_t global = (size_t)k->num_attachments;
+    return clEnqueueNDRangeKernel(c->cl.queue, a, 1, NULL, &global, NULL, 0, NULL, NULL);
+}
+
+/* Constants exactly as c_frame / iterations_tryon compute them. */
+static cl_int iterations(cl_state *c, const struct sim *s, int iters)
+{
+    const sim_cloth *k = &s->cloth;
+    float dt = s->desc.frame_dt_s / (float)iters;
+    float keep = s->desc.damping > 0.0f ? powf(1.0f - s->desc.damping, dt) : 1.0f;
+    cl_float4 g = {{0.0f, -s->desc.gravity_m_s2 * dt * dt, 0.0f, 0.0f}};
+    cl_float4 alpha = {{0.0f, 0.0f, 0.0f, 0.0f}};
+    for (int i = 0; i < SIM_SPRING_KINDS; i++)
+        alpha.s[i] = k->k[i] > 0.0f ? 1.0f / (k->k[i] * dt * dt) : 1e30f;
+    float limit = s->desc.strain_limit;
+    int every = SIM_CONTACT_EVERY;
+    const sim_collider *col = s->collider;
+    float radius = col->d.thickness_m + col->d.reach_m, h = col->d.thickness_m,
+          mu = col->d.friction;
+    cl_kernel it = c->k_iter;
+    cl_mem anchor = c->anchor, tlen = c->tlen;
+    int nstretch = k->num_stretch_colors, nt = c->g.nt;
+    cl_int st = ARG(it, 0, c->x);
+    st |= ARG(it, 1, c->x_prev);
+    st |= ARG(it, 2, k->nv);
+    st |= ARG(it, 3, c->ends);
+    st |= ARG(it, 4, c->rest);
+    st |= ARG(it, 5, c->kind);
+    st |= ARG(it, 6, c->color_start);
+    st |= ARG(it, 7, k->num_colors);
+    st |= ARG(it, 8, nstretch);
+    st |= ARG(it, 9, alpha);
+    st |= ARG(it, 10, anchor);
+    st |= ARG(it, 11, tlen);
+    st |= ARG(it, 12, limit);
+    st |= ARG(it, 13, keep);
+    st |= ARG(it, 14, g);
+    st |= ARG(it, 15, iters);
+    st |= ARG(it, 16, every);
+    st |= ARG(it, 17, nt);
+    st |= ARG(it, 18, c->g.child);
+    st |= ARG(it, 19, c->g.order);
+    st |= ARG(it, 20, c->g.lo);
+    st |= ARG(it, 21, c->g.hi);
+    st |= ARG(it, 22, c->g.v);
+    st |= ARG(it, 23, c->g.tris);
+    st |= ARG(it, 24, c->g.n);
+    st |= ARG(it, 25, c->g.nbr);
+    st |= ARG(it, 26, c->g.vt_start);
+    st |= ARG(it, 27, c->g.vt_list);
+    st |= ARG(it, 28, radius);
+    st |= ARG(it, 29, h);
+    st |= ARG(it, 30, mu);
+    st |= ARG(it, 31, c->g.contact);
+    if (st != CL_SUCCESS)
+        return CL_INVALID_KERNEL_ARGS;
+    size_t global = c->group, local = c->group;
+    return clEnqueueNDRangeKernel(c->cl.queue, it, 1, NULL, &global, &local, 0, NULL, NULL);
+}
+
+static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
+{
+    cl_state *c = state;
+    sim_cloth *k = &s->cloth;
+    const sim_collider *col = s->collider;
+    char err[256] = "an OpenCL command failed";
+    if (s->desc.solver != SIM_SOLVER_TRYON) {
+        fprintf(stderr, "OpenCL backend: the seed solver runs on the C backend only\n");
+        return -SIM_ERR_BACKEND;
+    }
+    double t0 = now_ms();
+    if (sim_cl_collide_set_body(&c->g, col, err, sizeof err) != 0)
+        goto fail;
+    st->feature_points_moved = 0;
+    int fp = s->body.have_prev && c->g.have_prev;
+    if (fp &&
+        sim_cl_collide_feature_points(&c->g, c->x, c->x_prev, 0, k->nv, col->d.thickness_m) != 0)
+        goto fail;
+    if (fp && clEnqueueReadBuffer(c->cl.queue, c->g.moved, CL_FALSE, 0, (size_t)k->nv * 4, c->moved,
+                                  0, NULL, NULL) != CL_SUCCESS)
+        goto fail;
+    if (attachments(c, k) != CL_SUCCESS)
+        goto fail;
+    if (clFinish(c->cl.queue) != CL_SUCCESS)
+        goto fail;
+    double t1 = now_ms();
+    for (int i = 0; fp && i < k->nv; i++)
+        st->feature_points_moved += c->moved[i];
+    st->ms_feature_points = (float)(t1 - t0);
+    if (sim_cl_collide_find_contacts(&c->g, c->x, 0, k->nv, col->d.thickness_m + col->d.reach_m))
+        goto fail;
+    if (clFinish(c->cl.queue) != CL_SUCCESS)
+        goto fail;
+    double t2 = now_ms();
+    st->ms_contacts = (float)(t2 - t1);
+    size_t bytes = (size_t)k->nv * 16;
+    if (iterations(c, s, iters) != CL_SUCCESS ||
+        clEnqueueReadBuffer(c->cl.queue, c->x, CL_FALSE, 0, bytes, k->x, 0, NULL, NULL) ||
+        clEnqueueReadBuffer(c->cl.queue, c->x_prev, CL_TRUE, 0, bytes, k->x_prev, 0, NULL, NULL))
+        goto fail;
+    st->ms_iterations = (float)(now_ms() - t2);
+    return 0;
+fail:
+    fprintf(stderr, "OpenCL backend: frame failed on %s: %s\n", c->cl.device_name, err);
+    return -SIM_ERR_BACKEND;
+}
+
+static const char *cl_device_name(const void *state)
+{
+    return ((const cl_state *)state)->name;
+}
+
+const sim_backend_ops sim_backend_opencl = {
+    .name = "opencl",
+    .create = cl_create,
+    .destroy = cl_destroy,
+    .frame = cl_frame,
+    .upload = cl_upload,
+    .device_name = cl_device_name,
+};
