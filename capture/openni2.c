@@ -19,7 +19,6 @@ typedef struct _OniRecorder _OniRecorder;
 #include "cap_private.h"
 
 typedef struct oni_state {
-    int initialized;
     OniDeviceHandle dev;
     OniStreamHandle stream;
     int started;
@@ -63,7 +62,6 @@ static cap_error oni_open(cap_source *src, const cap_source_desc *d, char *err, 
     s->file = is_oni_file(uri);
     if (oniInitialize(ONI_API_VERSION) != ONI_STATUS_OK)
         return oni_fail(err, errlen, CAP_ERR_DEVICE, "oniInitialize failed", NULL);
-    s->initialized = 1;
     if (oniDeviceOpen(uri ? uri : "", &s->dev) != ONI_STATUS_OK) {
         s->dev = NULL;
         return oni_fail(err, errlen, s->file ? CAP_ERR_RECORDING : CAP_ERR_NO_DEVICE, "cannot open",
@@ -189,8 +187,9 @@ static void oni_close(cap_source *src)
     }
     if (s->dev)
         oniDeviceClose(s->dev);
-    if (s->initialized)
-        oniShutdown();
+    /* No oniShutdown: in Debian's OpenNI2 2.2.0.33 it segfaults (in the driver unload) once a
+     * stream has existed, with the Dummy and the File driver alike. Capture closes a source only
+     * on its way out, so the process exit releases what OpenNI2 holds. */
     free(s->mm);
     free(s);
     src->impl = NULL;
