@@ -31,9 +31,14 @@ typedef struct sim_cloth {
     uint8_t *kind;      /* sim_spring_kind */
     int num_colors;
     int32_t *color_start;      /* colour c holds springs [color_start[c], color_start[c + 1]) */
+    int num_stretch_colors;    /* colours [0, this) hold only stretch springs; the rest none */
     float k[SIM_SPRING_KINDS]; /* stiffness per kind, N/m (after any clamp the solver needs) */
     int num_attachments;
     sim_attachment *attachments;
+    /* Long-range attachments (tethers, Kim et al. 2012): each free vertex may not be farther
+     * from its nearest attached vertex than the rest geodesic distance; -1 = no tether. */
+    int32_t *tether_anchor;
+    float *tether_len;
 } sim_cloth;
 
 /* The body as the driver keeps it: frame k and k-1. */
@@ -91,7 +96,8 @@ struct sim {
 #define SIM_DIVERGE_STRAIN 0.5f   /* 50 % stretch is no fabric: the step blew up */
 #define SIM_DIVERGE_SPEED  50.0f  /* m/s; no garment point moves that fast on a person */
 #define SIM_MAX_RETRIES    2      /* each retry doubles the iterations */
-#define SIM_CONTACT_MARGIN 0.02f  /* tryon: contacts cached with this reach beyond thickness */
+#define SIM_CONTACT_MARGIN 0.03f  /* tryon: contacts cached with this reach beyond thickness */
+#define SIM_CONTACT_EVERY  5      /* tryon: iterations between contact searches */
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
  * [begin, end) are vertices or springs; callers split them over threads. */
@@ -112,9 +118,21 @@ void sim_provot_correct(float (*x)[4], const int32_t (*ends)[2], const float *re
 void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                          const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int begin,
                          int end);
+/* tryon: tethers, each vertex pulled back within len * (1 + limit) of its anchor. */
+void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int begin, int end,
+                 float limit);
 /* tryon: clamp stretch springs to rest * (1 + limit). */
 void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end, float limit);
+
+/* Fill why (may be NULL) with code and a formatted place; returns -code. */
+int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Garment helpers (garment.c): arrays allocated for nv vertices, nt triangles, na attachments;
+ * triangles of a tube of cols x rows vertices, row-major, the last column joined to the first. */
+int sim_garment_alloc(sim_garment *g, int nv, int nt, int na);
+void sim_garment_tube_triangles(int32_t *t, int cols, int rows);
 
 /* Cloth construction (cloth.c). */
 int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_reject *why);

@@ -1,0 +1,342 @@
+/* tryon-bench-sim: a garment on a body (or the drape sheet on a sphere), timed per frame; a
+ * human table per group of frames, then one JSON line. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "scene.h"
+#include "sim.h"
+
+#define BENCH_SETTLE_FRAMES 30 /* strain and error are judged after the first second */
+#define BENCH_REF_EVERY     10 /* the reference keeps every tenth frame */
+#define BENCH_REF_FACTOR    8  /* reference: 8x the iterations (8x smaller steps) */
+
+typedef struct bench_opts {
+    const char *scene, *motion, *csv, *cache_dir;
+    int verts, iterations, frames, group;
+    sim_desc desc;
+    int no_ref;
+} bench_opts;
+
+typedef struct bench_run {
+    float *ms; /* per frame */
+    sim_frame_stats *st;
+    float *snap; /* frames / BENCH_REF_EVERY snapshots of nv * 3 */
+    int nv, nsnap, diverged_frames;
+    char device[96];
+} bench_run;
+
+static void usage(void)
+{
+    fprintf(stderr,
+            "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
+            "[--frames F]\n"
+            "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
+            "         [--stretch N/m] [--bend N/m] [--csv FILE] [--cache-dir DIR] [--no-ref]\n");
+}
+
+static int parse(int argc, char **argv, bench_opts *o)
+{
+    *o = (bench_opts){.scene = "drape",
+                      .motion = "all",
+                      .verts = 7056,
+                      .iterations = 25,
+                      .frames = 0,
+                      .group = 10,
+                      .cache_dir = "."};
+    o->desc = sim_default_desc();
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int used = 1;
+        if (!v && strcmp(a, "--no-ref") != 0) {
+            usage();
+            return -1;
+        }
+        if (strcmp(a, "--scene") == 0)
+            o->scene = v;
+        else if (strcmp(a, "--verts") == 0)
+            o->verts = atoi(v);
+        else if (strcmp(a, "--iterations") == 0)
+            o->iterations = atoi(v);
+        else if (strcmp(a, "--frames") == 0)
+            o->frames = atoi(v);
+        else if (strcmp(a, "--motion") == 0)
+            o->motion = v;
+        else if (strcmp(a, "--csv") == 0)
+            o->csv = v;
+        else if (strcmp(a, "--cache-dir") == 0)
+            o->cache_dir = v;
+        else if (strcmp(a, "--stretch") == 0)
+            o->desc.fabric.stretch_n_m = (float)atof(v);
+        else if (strcmp(a, "--bend") == 0)
+            o->desc.fabric.bend_n_m = (float)atof(v);
+        else if (strcmp(a, "--backend") == 0 && (!strcmp(v, "c") || !strcmp(v, "opencl")))
+            o->desc.backend = !strcmp(v, "c") ? SIM_BACKEND_C : SIM_BACKEND_OPENCL;
+        else if (strcmp(a, "--solver") == 0 && (!strcmp(v, "seed") || !strcmp(v, "tryon")))
+            o->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
+        else if (strcmp(a, "--no-ref") == 0) {
+            o->no_ref = 1;
+            used = 0;
+        } else {
+            usage();
+            return -1;
+        }
+        i += used;
+    }
+    int body = strcmp(o->scene, "body") == 0;
+    if (!body && strcmp(o->scene, "drape") != 0) {
+        usage();
+        return -1;
+    }
+    if (o->frames <= 0)
+        o->frames = body ? 450 : 90; /* body: 15 s covers every motion; drape: 3 s */
+    o->desc.iterations = o->iterations;
+    return 0;
+}
+
+/* The scene's body and garment. */
+static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
+{
+    char err[160] = "";
+    if (strcmp(o->scene, "drape") == 0) {
+        /* 1 m x 1 m, 200 g/m^2, flat 0.3 m above the top of a 0.25 m sphere at the origin */
+        float c[3] = {0, 0, 0};
+        *sc = sim_scene_sphere(0.25f, c, 2000);
+        if (!*sc || sim_garment_drape(o->verts, 1.0f, 0.55f, g) < 0) {
+            fprintf(stderr, "tryon-bench-sim: cannot make the drape scene\n");
+            return -1;
+        }
+        return 0;
+    }
+    *sc = sim_scene_body(o->motion, 0, err, sizeof err);
+    if (!*sc) {
+        fprintf(stderr, "tryon-bench-sim: body scene: %s\n", err);
+        return -1;
+    }
+    const float *xyz, *joints;
+    const int32_t *tris;
+    int nv, nt;
+    sim_reject why = {0};
+    sim_scene_eval(*sc, 0.0, &xyz, &nv, &tris, &nt, &joints);
+    if (sim_garment_shirt(xyz, nv, tris, nt, joints, o->verts, 0.0f, g, &why) < 0) {
+        fprintf(stderr, "tryon-bench-sim: shirt: %s: %s\n", sim_error_name(why.code), why.detail);
+        return -1;
+    }
+    return 0;
+}
+
+static int run(const bench_opts *o, const sim_desc *desc, int keep_stats, bench_run *out)
+{
+    sim_scene *sc = NULL;
+    sim_garment g = {0};
+    if (make_scene(o, &sc, &g) < 0) {
+        sim_scene_destroy(sc);
+        sim_garment_free(&g);
+        return -1;
+    }
+    sim_reject why = {0};
+    sim *s = sim_create(desc, &g, &why);
+    sim_garment_free(&g);
+    if (!s) {
+        fprintf(stderr, "tryon-bench-sim: %s: %s\n", sim_error_name(why.code), why.detail);
+        sim_scene_destroy(sc);
+        return -1;
+    }
+    memset(out, 0, sizeof *out);
+    out->nv = sim_vertex_count(s);
+    snprintf(out->device, sizeof out->device, "%s", sim_device_name(s));
+    out->nsnap = o->frames / BENCH_REF_EVERY;
+    out->snap = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->snap);
+    out->ms = calloc((size_t)o->frames, sizeof *out->ms);
+    out->st = calloc((size_t)o->frames, sizeof *out->st);
+    int r = (out->snap && out->ms && out->st) ? 0 : -1;
+    for (int f = 0; f < o->frames && r == 0; f++) {
+        const float *xyz, *joints;
+        const int32_t *tris;
+        int nv, nt;
+        sim_scene_eval(sc, (double)f * desc->frame_dt_s, &xyz, &nv, &tris, &nt, &joints);
+        int e = sim_step(s, xyz, nv, tris, nt, &out->st[f], &why);
+        if (e == -SIM_ERR_DIVERGED)
+            out->diverged_frames++;
+        else if (e < 0) {
+            fprintf(stderr, "tryon-bench-sim: frame %d: %s: %s\n", f, sim_error_name(e),
+                    why.detail);
+            r = -1;
+        }
+        out->ms[f] = out->st[f].ms_total;
+        if ((f + 1) % BENCH_REF_EVERY == 0 && (f + 1) / BENCH_REF_EVERY <= out->nsnap)
+            sim_copy_positions(s,
+                               out->snap + (size_t)((f + 1) / BENCH_REF_EVERY - 1) * out->nv * 3);
+    }
+    (void)keep_stats;
+    sim_destroy(s);
+    sim_scene_destroy(sc);
+    return r;
+}
+
+static void run_free(bench_run *r)
+{
+    free(r->ms);
+    free(r->st);
+    free(r->snap);
+}
+
+/* The converged reference: the tryon solver with 8x the iterations, cached on disk. */
+static float *reference(const bench_opts *o, int nv, int nsnap)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/sim-ref-%s-%s-%d-%d-%d-%g-%g.bin", o->cache_dir, o->scene,
+             o->motion, o->verts, o->iterations * BENCH_REF_FACTOR, o->frames,
+             o->desc.fabric.stretch_n_m, o->desc.fabric.bend_n_m);
+    size_t n = (size_t)nsnap * nv * 3;
+    float *ref = malloc(n * sizeof *ref + 1);
+    if (!ref)
+        return NULL;
+    FILE *f = fopen(path, "rb");
+    if (f) {
+        size_t got = fread(ref, sizeof *ref, n, f);
+        fclose(f);
+        if (got == n)
+            return ref;
+    }
+    fprintf(stderr, "tryon-bench-sim: computing the reference (%d iterations) into %s\n",
+            o->iterations * BENCH_REF_FACTOR, path);
+    sim_desc d = o->desc;
+    d.backend = SIM_BACKEND_C;
+    d.solver = SIM_SOLVER_TRYON;
+    d.iterations = o->iterations * BENCH_REF_FACTOR;
+    bench_run rr;
+    if (run(o, &d, 0, &rr) < 0 || rr.nv != nv) {
+        free(ref);
+        return NULL;
+    }
+    memcpy(ref, rr.snap, n * sizeof *ref);
+    run_free(&rr);
+    f = fopen(path, "wb");
+    if (f) {
+        fwrite(ref, sizeof *ref, n, f);
+        fclose(f);
+    }
+    return ref;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+static float percentile(const float *v, int n, float p)
+{
+    float *s = malloc((size_t)(n > 0 ? n : 1) * sizeof *s);
+    if (!s || n == 0) {
+        free(s);
+        return 0.0f;
+    }
+    memcpy(s, v, (size_t)n * sizeof *s);
+    qsort(s, (size_t)n, sizeof *s, cmp_float);
+    float r = s[(int)floorf(p * (float)(n - 1) + 0.5f)];
+    free(s);
+    return r;
+}
+
+static void print_groups(const bench_opts *o, const bench_run *r)
+{
+    printf("%-9s %8s %8s %8s %8s %8s %6s %8s %6s %s\n", "frames", "ms_med", "ms_max", "bvh+fp",
+           "iter_ms", "strain%", "p99%", "pen", "pen_mm", "state");
+    for (int f0 = 0; f0 < o->frames; f0 += o->group) {
+        int n = f0 + o->group <= o->frames ? o->group : o->frames - f0;
+        float ms_max = 0, strain = 0, p99 = 0, pen_mm = 0, pre = 0, it = 0;
+        int pen = 0, worst = 0;
+        for (int f = f0; f < f0 + n; f++) {
+            const sim_frame_stats *s = &r->st[f];
+            ms_max = fmaxf(ms_max, r->ms[f]);
+            strain = fmaxf(strain, s->max_strain);
+            p99 = fmaxf(p99, s->p99_strain);
+            pen = s->penetrating > pen ? s->penetrating : pen;
+            pen_mm = fmaxf(pen_mm, s->max_pen_mm);
+            pre += (s->ms_bvh + s->ms_feature_points) / (float)n;
+            it += s->ms_iterations / (float)n;
+            worst = (int)s->state > worst ? (int)s->state : worst;
+        }
+        printf("%4d-%-4d %8.2f %8.2f %8.2f %8.2f %8.2f %6.2f %8d %6.1f %s\n", f0, f0 + n - 1,
+               percentile(r->ms + f0, n, 0.5f), ms_max, pre, it, strain * 100.0f, p99 * 100.0f, pen,
+               pen_mm, sim_state_name((sim_state)worst));
+    }
+}
+
+static void write_csv(const char *path, const bench_run *r, int frames)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "tryon-bench-sim: cannot write %s\n", path);
+        return;
+    }
+    fprintf(f, "frame,ms,bvh,fp,contacts,iterations,metrics,max_strain,p99_strain,penetrating,"
+               "max_pen_mm,state\n");
+    for (int i = 0; i < frames; i++) {
+        const sim_frame_stats *s = &r->st[i];
+        fprintf(f, "%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%d,%.2f,%d\n", i, r->ms[i],
+                s->ms_bvh, s->ms_feature_points, s->ms_contacts, s->ms_iterations, s->ms_metrics,
+                s->max_strain, s->p99_strain, s->penetrating, s->max_pen_mm, (int)s->state);
+    }
+    fclose(f);
+}
+
+int main(int argc, char **argv)
+{
+    bench_opts o;
+    if (parse(argc, argv, &o) < 0)
+        return 2;
+    mkdir(o.cache_dir, 0755);
+    bench_run r;
+    if (run(&o, &o.desc, 1, &r) < 0)
+        return 1;
+    print_groups(&o, &r);
+    if (o.csv)
+        write_csv(o.csv, &r, o.frames);
+
+    int warm = o.frames > 10 ? 5 : 0; /* the first frames fault pages in */
+    float ms_med = percentile(r.ms + warm, o.frames - warm, 0.5f);
+    float ms_p95 = percentile(r.ms + warm, o.frames - warm, 0.95f);
+    float max_strain = 0, p99 = 0, pen_mm = 0;
+    int pen = 0, recovered = 0, settle = o.frames > BENCH_SETTLE_FRAMES ? BENCH_SETTLE_FRAMES : 0;
+    for (int f = 0; f < o.frames; f++) {
+        const sim_frame_stats *s = &r.st[f];
+        if (f >= settle) {
+            max_strain = fmaxf(max_strain, s->max_strain);
+            p99 = fmaxf(p99, s->p99_strain);
+        }
+        pen = s->penetrating > pen ? s->penetrating : pen;
+        pen_mm = fmaxf(pen_mm, s->max_pen_mm);
+        recovered += s->state == SIM_STATE_RECOVERED;
+    }
+    double err2 = 0.0;
+    long cnt = 0;
+    float *ref = o.no_ref ? NULL : reference(&o, r.nv, r.nsnap);
+    for (int k = 0; ref && k < r.nsnap; k++) {
+        if ((k + 1) * BENCH_REF_EVERY <= settle)
+            continue;
+        for (int i = 0; i < r.nv * 3; i++) {
+            double d = r.snap[(size_t)k * r.nv * 3 + i] - ref[(size_t)k * r.nv * 3 + i];
+            err2 += d * d;
+        }
+        cnt += r.nv;
+    }
+    free(ref);
+    double cloth_error_mm = cnt ? sqrt(err2 / (double)cnt) * 1000.0 : -1.0;
+    printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"solver\":\"%s\",\"backend\":\"%s\","
+           "\"device\":\"%s\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,"
+           "\"ms_median\":%.3f,\"ms_p95\":%.3f,\"max_strain\":%.5f,\"p99_strain\":%.5f,"
+           "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
+           "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g}\n",
+           o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
+           o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
+           o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
+           ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
+           r.diverged_frames, o.desc.fabric.stretch_n_m);
+    run_free(&r);
+    return 0;
+}

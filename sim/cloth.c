@@ -1,0 +1,372 @@
+/* Cloth construction: masses, springs from the triangle mesh, and the graph colouring that lets
+ * one colour of springs be projected in parallel. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cloth.h"
+
+typedef struct spring_list {
+    int n, cap;
+    int32_t (*ends)[2];
+    uint8_t *kind;
+} spring_list;
+
+static int spring_push(spring_list *l, int32_t a, int32_t b, uint8_t kind)
+{
+    if (l->n == l->cap) {
+        int cap = l->cap ? l->cap * 2 : 1024;
+        int32_t(*e)[2] = realloc(l->ends, (size_t)cap * sizeof *e);
+        if (!e)
+            return -SIM_ERR_NO_MEMORY;
+        l->ends = e;
+        uint8_t *k = realloc(l->kind, (size_t)cap);
+        if (!k)
+            return -SIM_ERR_NO_MEMORY;
+        l->kind = k;
+        l->cap = cap;
+    }
+    l->ends[l->n][0] = a < b ? a : b;
+    l->ends[l->n][1] = a < b ? b : a;
+    l->kind[l->n] = kind;
+    l->n++;
+    return 0;
+}
+
+/* Grid garments: stretch along rows and columns, shear across each quad, bend skipping one
+ * vertex (Provot 1995's layout). */
+static int springs_grid(spring_list *l, int w, int h)
+{
+    int r = 0;
+    for (int i = 0; i < h && r == 0; i++) {
+        for (int j = 0; j < w && r == 0; j++) {
+            int v = i * w + j;
+            if (j + 1 < w)
+                r |= spring_push(l, v, v + 1, SIM_SPRING_STRETCH);
+            if (i + 1 < h)
+                r |= spring_push(l, v, v + w, SIM_SPRING_STRETCH);
+            if (j + 1 < w && i + 1 < h) {
+                r |= spring_push(l, v, v + w + 1, SIM_SPRING_SHEAR);
+                r |= spring_push(l, v + 1, v + w, SIM_SPRING_SHEAR);
+            }
+            if (j + 2 < w)
+                r |= spring_push(l, v, v + 2, SIM_SPRING_BEND);
+            if (i + 2 < h)
+                r |= spring_push(l, v, v + 2 * w, SIM_SPRING_BEND);
+        }
+    }
+    return r ? -SIM_ERR_NO_MEMORY : 0;
+}
+
+typedef struct half_edge {
+    int64_t key; /* min * nv + max */
+    int32_t opposite;
+} half_edge;
+
+static int half_edge_cmp(const void *a, const void *b)
+{
+    const half_edge *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return (x->opposite > y->opposite) - (x->opposite < y->opposite);
+}
+
+/* Any triangle mesh: stretch on every edge, bend between the opposite vertices of the two
+ * triangles sharing an edge; no shear (the triangulation's diagonals already resist it). */
+static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv)
+{
+    half_edge *he = malloc((size_t)nt * 3 * sizeof *he);
+    if (!he)
+        return -SIM_ERR_NO_MEMORY;
+    for (int t = 0; t < nt; t++) {
+        for (int e = 0; e < 3; e++) {
+            int64_t a = tris[t * 3 + e], b = tris[t * 3 + (e + 1) % 3];
+            he[t * 3 + e].key = a < b ? a * nv + b : b * nv + a;
+            he[t * 3 + e].opposite = tris[t * 3 + (e + 2) % 3];
+        }
+    }
+    qsort(he, (size_t)nt * 3, sizeof *he, half_edge_cmp);
+    int r = 0;
+    for (int i = 0; i < nt * 3 && r == 0; i++) {
+        if (i > 0 && he[i].key == he[i - 1].key)
+            continue;
+        r = spring_push(l, (int32_t)(he[i].key / nv), (int32_t)(he[i].key % nv),
+                        SIM_SPRING_STRETCH);
+        if (r == 0 && i + 1 < nt * 3 && he[i + 1].key == he[i].key &&
+            he[i].opposite != he[i + 1].opposite)
+            r = spring_push(l, he[i].opposite, he[i + 1].opposite, SIM_SPRING_BEND);
+    }
+    free(he);
+    return r;
+}
+
+/* Greedy edge colouring, one group of springs at a time (stretch first, then the rest) so that
+ * strain limiting can run over the stretch colours alone. A spring takes the lowest colour
+ * neither end uses yet; 64 colours per group cover any vertex degree up to 32. */
+static int colour_springs(sim_cloth *c, const spring_list *l, sim_reject *why)
+{
+    int ns = l->n;
+    uint64_t *used = calloc((size_t)c->nv, sizeof *used);
+    int16_t *colour = malloc((size_t)ns * sizeof *colour);
+    int32_t count[128] = {0};
+    if (!used || !colour) {
+        free(used);
+        free(colour);
+        return -SIM_ERR_NO_MEMORY;
+    }
+    int base = 0, r = 0;
+    for (int group = 0; group < 2 && r == 0; group++) {
+        memset(used, 0, (size_t)c->nv * sizeof *used);
+        int top = 0;
+        for (int s = 0; s < ns; s++) {
+            if ((l->kind[s] == SIM_SPRING_STRETCH) != (group == 0))
+                continue;
+            uint64_t both = used[l->ends[s][0]] | used[l->ends[s][1]];
+            if (both == ~(uint64_t)0) {
+                snprintf(why->detail, sizeof why->detail,
+                         "vertex %d has more than 32 springs of one kind", l->ends[s][0]);
+                r = -SIM_ERR_PARAM;
+                break;
+            }
+            int k = __builtin_ctzll(~both);
+            used[l->ends[s][0]] |= (uint64_t)1 << k;
+            used[l->ends[s][1]] |= (uint64_t)1 << k;
+            colour[s] = (int16_t)(base + k);
+            count[base + k]++;
+            if (k + 1 > top)
+                top = k + 1;
+        }
+        if (group == 0)
+            c->num_stretch_colors = top;
+        base += top;
+    }
+    c->num_colors = base;
+    c->color_start = malloc((size_t)(base + 1) * sizeof *c->color_start);
+    c->ends = malloc((size_t)(ns ? ns : 1) * sizeof *c->ends);
+    c->kind = malloc((size_t)(ns ? ns : 1));
+    c->rest = malloc((size_t)(ns ? ns : 1) * sizeof *c->rest);
+    if (r == 0 && (!c->color_start || !c->ends || !c->kind || !c->rest))
+        r = -SIM_ERR_NO_MEMORY;
+    if (r == 0) {
+        c->color_start[0] = 0;
+        for (int k = 0; k < base; k++)
+            c->color_start[k + 1] = c->color_start[k] + count[k];
+        int32_t fill[128];
+        memcpy(fill, c->color_start, (size_t)base * sizeof *fill);
+        for (int s = 0; s < ns; s++) {
+            int d = fill[colour[s]]++;
+            c->ends[d][0] = l->ends[s][0];
+            c->ends[d][1] = l->ends[s][1];
+            c->kind[d] = l->kind[s];
+        }
+        c->ns = ns;
+    }
+    free(used);
+    free(colour);
+    return r;
+}
+
+/* Lumped masses: a third of each triangle's area times the density to each of its vertices. */
+static void lump_masses(sim_cloth *c, const sim_garment *g, float density)
+{
+    for (int i = 0; i < c->nv; i++)
+        c->x[i][3] = 0.0f;
+    for (int t = 0; t < g->num_triangles; t++) {
+        const int32_t *v = &g->triangles[t * 3];
+        const float *a = &g->xyz[v[0] * 3], *b = &g->xyz[v[1] * 3], *p = &g->xyz[v[2] * 3];
+        float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float e2[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        float cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
+        float area = 0.5f * sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        for (int k = 0; k < 3; k++)
+            c->x[v[k]][3] += area * density / 3.0f; /* mass for now, inverted below */
+    }
+}
+
+/* Binary min-heap of (distance, vertex) for Dijkstra. */
+typedef struct heap_item {
+    float d;
+    int32_t v;
+} heap_item;
+
+static void heap_push(heap_item *h, int *n, heap_item it)
+{
+    int i = (*n)++;
+    while (i > 0 && h[(i - 1) / 2].d > it.d) {
+        h[i] = h[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h[i] = it;
+}
+
+static heap_item heap_pop(heap_item *h, int *n)
+{
+    heap_item top = h[0], last = h[--(*n)];
+    int i = 0;
+    for (;;) {
+        int k = 2 * i + 1;
+        if (k >= *n)
+            break;
+        if (k + 1 < *n && h[k + 1].d < h[k].d)
+            k++;
+        if (h[k].d >= last.d)
+            break;
+        h[i] = h[k];
+        i = k;
+    }
+    h[i] = last;
+    return top;
+}
+
+/* Tethers: rest geodesic distance (over stretch springs) from every vertex to its nearest
+ * attached vertex, multi-source Dijkstra. Vertices no attachment reaches get anchor -1. */
+static int build_tethers(sim_cloth *c)
+{
+    int nv = c->nv, ns = c->ns;
+    c->tether_anchor = malloc((size_t)nv * sizeof *c->tether_anchor);
+    c->tether_len = malloc((size_t)nv * sizeof *c->tether_len);
+    int32_t *start = calloc((size_t)nv + 1, sizeof *start);
+    int32_t *adj = malloc((size_t)(2 * ns + 1) * sizeof *adj);
+    float *adj_len = malloc((size_t)(2 * ns + 1) * sizeof *adj_len);
+    heap_item *heap = malloc((size_t)(2 * ns + nv + 1) * sizeof *heap);
+    int r = 0;
+    if (!c->tether_anchor || !c->tether_len || !start || !adj || !adj_len || !heap) {
+        r = -SIM_ERR_NO_MEMORY;
+        goto done;
+    }
+    for (int s = 0; s < ns; s++)
+        if (c->kind[s] == SIM_SPRING_STRETCH) {
+            start[c->ends[s][0] + 1]++;
+            start[c->ends[s][1] + 1]++;
+        }
+    for (int i = 0; i < nv; i++)
+        start[i + 1] += start[i];
+    int32_t *cursor = malloc((size_t)nv * sizeof *cursor);
+    if (!cursor) {
+        r = -SIM_ERR_NO_MEMORY;
+        goto done;
+    }
+    memcpy(cursor, start, (size_t)nv * sizeof *cursor);
+    for (int s = 0; s < ns; s++) {
+        if (c->kind[s] != SIM_SPRING_STRETCH)
+            continue;
+        int a = c->ends[s][0], b = c->ends[s][1];
+        adj[cursor[a]] = b;
+        adj_len[cursor[a]++] = c->rest[s];
+        adj[cursor[b]] = a;
+        adj_len[cursor[b]++] = c->rest[s];
+    }
+    free(cursor);
+    int n = 0;
+    for (int i = 0; i < nv; i++) {
+        c->tether_anchor[i] = -1;
+        c->tether_len[i] = INFINITY;
+    }
+    for (int a = 0; a < c->num_attachments; a++) {
+        int v = c->attachments[a].vertex;
+        c->tether_anchor[v] = v;
+        c->tether_len[v] = 0.0f;
+        heap_push(heap, &n, (heap_item){0.0f, v});
+    }
+    while (n > 0) {
+        heap_item it = heap_pop(heap, &n);
+        if (it.d > c->tether_len[it.v])
+            continue;
+        for (int k = start[it.v]; k < start[it.v + 1]; k++) {
+            float d = it.d + adj_len[k];
+            int u = adj[k];
+            if (d < c->tether_len[u]) {
+                c->tether_len[u] = d;
+                c->tether_anchor[u] = c->tether_anchor[it.v];
+                heap_push(heap, &n, (heap_item){d, u});
+            }
+        }
+    }
+    for (int i = 0; i < nv; i++)
+        if (c->tether_anchor[i] == i)
+            c->tether_anchor[i] = -1; /* the anchors themselves */
+done:
+    free(start);
+    free(adj);
+    free(adj_len);
+    free(heap);
+    return r;
+}
+
+int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_reject *why)
+{
+    memset(c, 0, sizeof *c);
+    int nv = g->num_vertices, nt = g->num_triangles;
+    c->nv = nv;
+    c->nt = nt;
+    c->x = calloc((size_t)nv, sizeof *c->x);
+    c->x_prev = calloc((size_t)nv, sizeof *c->x_prev);
+    c->x_rest = calloc((size_t)nv, sizeof *c->x_rest);
+    c->tris = calloc((size_t)nt, sizeof *c->tris);
+    if (g->num_attachments > 0)
+        c->attachments = malloc((size_t)g->num_attachments * sizeof *c->attachments);
+    if (!c->x || !c->x_prev || !c->x_rest || !c->tris ||
+        (g->num_attachments > 0 && !c->attachments)) {
+        sim_cloth_free(c);
+        return -SIM_ERR_NO_MEMORY;
+    }
+    lump_masses(c, g, f->density_kg_m2);
+    for (int i = 0; i < nv; i++) {
+        float m = g->mass_kg ? g->mass_kg[i] : c->x[i][3];
+        for (int d = 0; d < 3; d++)
+            c->x[i][d] = g->xyz[i * 3 + d];
+        c->x[i][3] = m > 0.0f ? 1.0f / m : 0.0f;
+    }
+    c->num_attachments = g->num_attachments;
+    for (int a = 0; a < g->num_attachments; a++) {
+        c->attachments[a] = g->attachments[a];
+        c->x[g->attachments[a].vertex][3] = 0.0f; /* driven by the body, not the solver */
+    }
+    memcpy(c->x_prev, c->x, (size_t)nv * sizeof *c->x);
+    memcpy(c->x_rest, c->x, (size_t)nv * sizeof *c->x);
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            c->tris[t][k] = g->triangles[t * 3 + k];
+    c->k[SIM_SPRING_STRETCH] = f->stretch_n_m;
+    c->k[SIM_SPRING_SHEAR] = f->shear_n_m;
+    c->k[SIM_SPRING_BEND] = f->bend_n_m;
+
+    spring_list l = {0};
+    int r = g->grid_w > 0 ? springs_grid(&l, g->grid_w, g->grid_h)
+                          : springs_mesh(&l, g->triangles, nt, nv);
+    if (r == 0)
+        r = colour_springs(c, &l, why);
+    free(l.ends);
+    free(l.kind);
+    if (r != 0) {
+        sim_cloth_free(c);
+        return r;
+    }
+    for (int s = 0; s < c->ns; s++) {
+        const float *a = c->x_rest[c->ends[s][0]], *b = c->x_rest[c->ends[s][1]];
+        float d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        c->rest[s] = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    r = build_tethers(c);
+    if (r != 0)
+        sim_cloth_free(c);
+    return r;
+}
+
+void sim_cloth_free(sim_cloth *c)
+{
+    free(c->x);
+    free(c->x_prev);
+    free(c->x_rest);
+    free(c->tris);
+    free(c->ends);
+    free(c->rest);
+    free(c->kind);
+    free(c->color_start);
+    free(c->attachments);
+    free(c->tether_anchor);
+    free(c->tether_len);
+    memset(c, 0, sizeof *c);
+}

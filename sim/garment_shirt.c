@@ -1,0 +1,244 @@
+/* A shirt generated around a body mesh: a tube over the torso from the armpits to the hips,
+ * following the torso's radial profile offset outward, its top row attached to the body (so it
+ * hangs from the chest as a shirt hangs from the shoulders). The arms stay outside it. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cloth.h"
+
+#define SHIRT_PI               3.14159265358979f
+#define SHIRT_DEFAULT_OFFSET_M 0.015f /* a fitted shirt stands 1.5 cm off the skin */
+#define SHIRT_MIN_VERTICES     200
+#define SHIRT_MAX_VERTICES     200000
+
+/* bodyfit joint indices (bodyfit.h FIT_JOINT_LIST order); the sim does not link bodyfit for
+ * this, it only reads the joint array a body message carries. */
+enum { J_PELVIS = 0, J_NECK = 3, J_LSHO = 6, J_LELB = 7, J_LWRI = 8, J_RSHO = 10 };
+enum { J_RELB = 11, J_RWRI = 12 };
+
+typedef struct shirt_frame {
+    float axis[2]; /* x, z of the torso's vertical axis */
+    float y_top, y_bot;
+} shirt_frame;
+
+static float seg_dist2(const float *p, const float *a, const float *b)
+{
+    float ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    float l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    float t = l2 > 0.0f ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0.0f;
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    float d[3] = {ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
+
+/* Torso vertices: nearer the pelvis-neck segment than any arm bone (with joints), or inside the
+ * middle 60 % of the body's width (without). */
+static void classify(const float *xyz, int nv, const float *j, uint8_t *torso, shirt_frame *f)
+{
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < nv; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fminf(lo[d], xyz[i * 3 + d]);
+            hi[d] = fmaxf(hi[d], xyz[i * 3 + d]);
+        }
+    float cx = 0.5f * (lo[0] + hi[0]), half = 0.5f * (hi[0] - lo[0]);
+    for (int i = 0; i < nv; i++) {
+        const float *p = &xyz[i * 3];
+        if (!j) {
+            torso[i] = fabsf(p[0] - cx) < 0.6f * half;
+            continue;
+        }
+        float dt = seg_dist2(p, &j[J_PELVIS * 3], &j[J_NECK * 3]);
+        /* the legs count as torso: the hem encloses the hips and the tops of the thighs */
+        static const int bones[][2] = {
+            {J_LSHO, J_LELB}, {J_LELB, J_LWRI}, {J_RSHO, J_RELB}, {J_RELB, J_RWRI}};
+        torso[i] = 1;
+        for (int b = 0; b < 4; b++)
+            if (seg_dist2(p, &j[bones[b][0] * 3], &j[bones[b][1] * 3]) < dt)
+                torso[i] = 0;
+    }
+    float ylo = INFINITY, yhi = -INFINITY, sx = 0, sz = 0;
+    int n = 0;
+    for (int i = 0; i < nv; i++) {
+        if (!torso[i])
+            continue;
+        ylo = fminf(ylo, xyz[i * 3 + 1]);
+        yhi = fmaxf(yhi, xyz[i * 3 + 1]);
+        sx += xyz[i * 3];
+        sz += xyz[i * 3 + 2];
+        n++;
+    }
+    f->axis[0] = n ? sx / (float)n : cx;
+    f->axis[1] = n ? sz / (float)n : 0.5f * (lo[2] + hi[2]);
+    if (j) {
+        /* armpits sit about 8 cm below the shoulder joints; the hem a few cm below the hips */
+        f->y_top = fminf(j[J_LSHO * 3 + 1], j[J_RSHO * 3 + 1]) - 0.25f;
+        f->y_bot = j[J_PELVIS * 3 + 1] - 0.25f;
+    } else {
+        f->y_top = yhi - 0.25f * (yhi - ylo);
+        f->y_bot = ylo + 0.2f * (yhi - ylo);
+    }
+}
+
+/* Largest radius of the torso in each (row, column) bin, then dilated so that the tube clears
+ * the body between bin centres too. */
+static void radial_profile(const float *xyz, int nv, const uint8_t *torso, const shirt_frame *f,
+                           int rows, int cols, float *r)
+{
+    float *raw = calloc((size_t)rows * cols, sizeof *raw);
+    float dy = (f->y_top - f->y_bot) / (float)(rows - 1);
+    for (int i = 0; raw && i < nv; i++) {
+        if (!torso[i])
+            continue;
+        const float *p = &xyz[i * 3];
+        int row = (int)lroundf((f->y_top - p[1]) / dy);
+        if (row < -1 || row > rows)
+            continue;
+        row = row < 0 ? 0 : (row >= rows ? rows - 1 : row);
+        float x = p[0] - f->axis[0], z = p[2] - f->axis[1];
+        float th = atan2f(-z, x); /* the tube's angle runs clockwise seen from above */
+        int col = (int)lroundf(th / (2.0f * SHIRT_PI) * (float)cols);
+        col = ((col % cols) + cols) % cols;
+        raw[row * cols + col] = fmaxf(raw[row * cols + col], sqrtf(x * x + z * z));
+    }
+    float rmax = 0.0f;
+    for (int k = 0; raw && k < rows * cols; k++)
+        rmax = fmaxf(rmax, raw[k]);
+    int reach = cols / 24 + 1; /* about 15 degrees either side */
+    for (int i = 0; i < rows; i++) {
+        for (int c = 0; c < cols; c++) {
+            float m = 0.0f;
+            for (int di = -1; raw && di <= 1; di++)
+                for (int dc = -reach; dc <= reach; dc++) {
+                    int ii = i + di, cc = ((c + dc) % cols + cols) % cols;
+                    if (ii >= 0 && ii < rows)
+                        m = fmaxf(m, raw[ii * cols + cc]);
+                }
+            r[i * cols + c] = m > 0.0f ? m : rmax;
+        }
+    }
+    /* below the waist the cloth falls straight from the widest point of the hips: a hem that
+     * narrows under the buttocks would hang stretched */
+    for (int i = rows / 2; i < rows; i++)
+        for (int c = 0; c < cols; c++)
+            r[i * cols + c] = fmaxf(r[i * cols + c], r[(i - 1) * cols + c]);
+    free(raw);
+}
+
+/* The top row hangs from the body: each vertex glued to its nearest torso triangle. */
+static int attach_top_row(sim_garment *g, int cols, const float *xyz, const int32_t *tris, int nt,
+                          const uint8_t *torso, sim_reject *why)
+{
+    for (int c = 0; c < cols; c++) {
+        const float *p = &g->xyz[c * 3];
+        float best = INFINITY, bq[3] = {0}, bb[3] = {0};
+        int bt = -1;
+        for (int t = 0; t < nt; t++) {
+            const int32_t *v = &tris[t * 3];
+            if (!torso[v[0]] || !torso[v[1]] || !torso[v[2]])
+                continue;
+            float q[3], bary[3];
+            sim_closest_on_triangle(p, &xyz[v[0] * 3], &xyz[v[1] * 3], &xyz[v[2] * 3], q, bary);
+            float d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                       (p[2] - q[2]) * (p[2] - q[2]);
+            if (d2 < best) {
+                best = d2;
+                bt = t;
+                memcpy(bq, q, sizeof bq);
+                memcpy(bb, bary, sizeof bb);
+            }
+        }
+        if (bt < 0)
+            return sim_reject_set(why, SIM_ERR_PARAM, "shirt: no torso triangle near column %d", c);
+        (void)bq;
+        (void)bb;
+        /* exact on the nearest triangle's plane: barycentrics of the projection (possibly a
+         * little outside the triangle) plus the height along its unit normal */
+        const int32_t *v = &tris[bt * 3];
+        const float *a = &xyz[v[0] * 3], *b = &xyz[v[1] * 3], *q = &xyz[v[2] * 3];
+        float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float e2[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+        float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0]};
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
+        float h = ap[0] * n[0] + ap[1] * n[1] + ap[2] * n[2];
+        float w[3] = {ap[0] - h * n[0], ap[1] - h * n[1], ap[2] - h * n[2]};
+        float d00 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+        float d01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+        float d11 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+        float d20 = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2];
+        float d21 = w[0] * e2[0] + w[1] * e2[1] + w[2] * e2[2];
+        float den = d00 * d11 - d01 * d01;
+        float b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
+        sim_attachment *at = &g->attachments[c];
+        at->vertex = c;
+        at->body_triangle = bt;
+        at->bary[0] = 1.0f - b1 - b2;
+        at->bary[1] = b1;
+        at->bary[2] = b2;
+        at->offset_m = h;
+    }
+    return 0;
+}
+
+int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+                      const float *joints_xyz, int n_vertices, float offset_m, sim_garment *out,
+                      sim_reject *why)
+{
+    int r = sim_body_validate(body_xyz, nv, body_tris, nt, why);
+    if (r < 0)
+        return r;
+    if (!out || n_vertices < SHIRT_MIN_VERTICES || n_vertices > SHIRT_MAX_VERTICES ||
+        !(offset_m >= 0.0f && offset_m < 0.2f))
+        return sim_reject_set(why, SIM_ERR_PARAM, "shirt: %d vertices (%d..%d), offset %g m",
+                              n_vertices, SHIRT_MIN_VERTICES, SHIRT_MAX_VERTICES, offset_m);
+    offset_m = offset_m > 0.0f ? offset_m : SHIRT_DEFAULT_OFFSET_M;
+    uint8_t *torso = calloc((size_t)nv, 1);
+    if (!torso)
+        return sim_reject_set(why, SIM_ERR_NO_MEMORY, "shirt");
+    shirt_frame f;
+    classify(body_xyz, nv, joints_xyz, torso, &f);
+    /* square cells: columns around a perimeter of about 2 pi 0.15 m, rows down the height */
+    float height = f.y_top - f.y_bot, perim = 2.0f * SHIRT_PI * 0.15f;
+    if (!(height > 0.05f)) {
+        free(torso);
+        return sim_reject_set(why, SIM_ERR_PARAM, "shirt: torso height %g m", height);
+    }
+    float h = sqrtf(perim * height / (float)n_vertices);
+    int cols = (int)lroundf(perim / h), rows = (int)lroundf(height / h) + 1;
+    cols = cols < 8 ? 8 : cols;
+    rows = rows < 3 ? 3 : rows;
+    r = sim_garment_alloc(out, rows * cols, 2 * cols * (rows - 1), cols);
+    float *rad = malloc((size_t)rows * cols * sizeof *rad);
+    if (r < 0 || !rad) {
+        free(torso);
+        free(rad);
+        sim_garment_free(out);
+        return sim_reject_set(why, SIM_ERR_NO_MEMORY, "shirt of %d vertices", rows * cols);
+    }
+    radial_profile(body_xyz, nv, torso, &f, rows, cols, rad);
+    for (int i = 0; i < rows; i++) {
+        float y = f.y_top - height * (float)i / (float)(rows - 1);
+        for (int c = 0; c < cols; c++) {
+            float th = 2.0f * SHIRT_PI * (float)c / (float)cols, rr = rad[i * cols + c] + offset_m;
+            float *p = &out->xyz[(i * cols + c) * 3];
+            p[0] = f.axis[0] + rr * cosf(th);
+            p[1] = y;
+            p[2] = f.axis[1] - rr * sinf(th);
+        }
+    }
+    sim_garment_tube_triangles(out->triangles, cols, rows);
+    snprintf(out->id, sizeof out->id, "shirt-%dx%d", cols, rows);
+    r = attach_top_row(out, cols, body_xyz, body_tris, nt, torso, why);
+    free(rad);
+    free(torso);
+    if (r < 0)
+        sim_garment_free(out);
+    return r;
+}

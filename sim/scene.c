@@ -1,0 +1,266 @@
+/* Scene bodies for tryon-bench-sim and the tests. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene.h"
+#ifdef SIM_HAVE_BODYFIT
+#include "bodyfit.h"
+#endif
+
+#define SCENE_PI        3.14159265358979f
+#define SCENE_SEGMENT_S 3.0 /* "all": each motion plays at most this long */
+
+struct sim_scene {
+    int nv, nt;
+    float *rest; /* nv * 3 */
+    float *xyz;  /* nv * 3, posed */
+    int32_t *tris;
+    float joints[32 * 3];
+    int has_joints;
+    int kind;   /* 0 sphere, 1 body model, 2 capsule figure */
+    int motion; /* -1 = all */
+    char describe[96];
+#ifdef SIM_HAVE_BODYFIT
+    fit_model *model;
+#endif
+};
+
+static sim_scene *scene_alloc(int nv, int nt)
+{
+    sim_scene *sc = calloc(1, sizeof *sc);
+    if (!sc)
+        return NULL;
+    sc->nv = nv;
+    sc->nt = nt;
+    sc->rest = calloc((size_t)nv * 3, sizeof *sc->rest);
+    sc->xyz = calloc((size_t)nv * 3, sizeof *sc->xyz);
+    sc->tris = calloc((size_t)nt * 3, sizeof *sc->tris);
+    if (!sc->rest || !sc->xyz || !sc->tris) {
+        sim_scene_destroy(sc);
+        return NULL;
+    }
+    return sc;
+}
+
+void sim_scene_destroy(sim_scene *sc)
+{
+    if (!sc)
+        return;
+#ifdef SIM_HAVE_BODYFIT
+    fit_model_destroy(sc->model);
+#endif
+    free(sc->rest);
+    free(sc->xyz);
+    free(sc->tris);
+    free(sc);
+}
+
+/* UV sphere: rings of latitude between two poles. */
+static void sphere_mesh(float *xyz, int32_t *tris, int rings, int segs, float r, const float c[3])
+{
+    int v = 0, t = 0;
+    xyz[v++] = c[0], xyz[v++] = c[1] + r, xyz[v++] = c[2];
+    for (int i = 1; i < rings; i++) {
+        float th = SCENE_PI * (float)i / (float)rings;
+        for (int j = 0; j < segs; j++) {
+            float ph = 2.0f * SCENE_PI * (float)j / (float)segs;
+            xyz[v++] = c[0] + r * sinf(th) * cosf(ph);
+            xyz[v++] = c[1] + r * cosf(th);
+            xyz[v++] = c[2] - r * sinf(th) * sinf(ph);
+        }
+    }
+    xyz[v++] = c[0], xyz[v++] = c[1] - r, xyz[v++] = c[2];
+    int south = 1 + (rings - 1) * segs;
+    for (int j = 0; j < segs; j++) {
+        int j1 = (j + 1) % segs;
+        tris[t++] = 0, tris[t++] = 1 + j, tris[t++] = 1 + j1;
+        int a = 1 + (rings - 2) * segs;
+        tris[t++] = south, tris[t++] = a + j1, tris[t++] = a + j;
+    }
+    for (int i = 0; i + 2 < rings; i++) {
+        for (int j = 0; j < segs; j++) {
+            int j1 = (j + 1) % segs;
+            int a = 1 + i * segs + j, b = 1 + i * segs + j1;
+            int cc = 1 + (i + 1) * segs + j, d = 1 + (i + 1) * segs + j1;
+            tris[t++] = a, tris[t++] = cc, tris[t++] = b;
+            tris[t++] = b, tris[t++] = cc, tris[t++] = d;
+        }
+    }
+}
+
+sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangles)
+{
+    int rings = (int)sqrtf((float)n_triangles / 4.0f);
+    rings = rings < 4 ? 4 : rings;
+    int segs = 2 * rings;
+    sim_scene *sc = scene_alloc(2 + (rings - 1) * segs, 2 * segs * (rings - 1));
+    if (!sc)
+        return NULL;
+    sphere_mesh(sc->rest, sc->tris, rings, segs, radius_m, centre);
+    memcpy(sc->xyz, sc->rest, (size_t)sc->nv * 3 * sizeof *sc->xyz);
+    snprintf(sc->describe, sizeof sc->describe, "sphere r=%.2f m, %d triangles", radius_m, sc->nt);
+    return sc;
+}
+
+static const char *const motion_names[] = {"still", "arm_raise", "turn", "walk", "fast_swing"};
+#define SCENE_MOTIONS 5
+
+#ifdef SIM_HAVE_BODYFIT
+static double segment_length(int m)
+{
+    double d = fit_motion_duration((fit_motion)m);
+    return d < SCENE_SEGMENT_S ? d : SCENE_SEGMENT_S;
+}
+
+sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
+{
+    int m = -1;
+    if (strcmp(motion, "all") != 0 && (m = fit_motion_from_name(motion)) < 0) {
+        snprintf(err, err_size, "motion '%s' unknown", motion);
+        return NULL;
+    }
+    fit_model_desc md = {.shape = fit_shape_default(), .target_vertices = target_vertices};
+    fit_model *model = fit_model_create(&md, err, err_size);
+    if (!model)
+        return NULL;
+    sim_scene *sc = scene_alloc(fit_model_vertex_count(model), fit_model_triangle_count(model));
+    if (!sc) {
+        fit_model_destroy(model);
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    sc->model = model;
+    sc->kind = 1;
+    sc->motion = m;
+    sc->has_joints = 1;
+    memcpy(sc->tris, fit_model_triangles(model), (size_t)sc->nt * 3 * sizeof *sc->tris);
+    snprintf(sc->describe, sizeof sc->describe, "body model (%d vertices), motion %s", sc->nv,
+             motion);
+    return sc;
+}
+
+int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
+                   int *nt, const float **joints)
+{
+    if (sc->kind == 1) {
+        int m = sc->motion;
+        double t = t_s;
+        if (m < 0) {
+            double total = sim_scene_duration(sc);
+            t = fmod(t_s, total);
+            for (m = 0; m + 1 < SCENE_MOTIONS &&
+                        t >= segment_length(fit_motion_from_name(motion_names[m]));
+                 m++)
+                t -= segment_length(fit_motion_from_name(motion_names[m]));
+            m = fit_motion_from_name(motion_names[m]);
+        }
+        fit_pose pose;
+        fit_motion_eval((fit_motion)m, t, &pose);
+        if (fit_model_pose(sc->model, &pose, sc->xyz, sc->joints) < 0)
+            return -1;
+    }
+    *xyz = sc->xyz;
+    *nv = sc->nv;
+    *tris = sc->tris;
+    *nt = sc->nt;
+    if (joints)
+        *joints = sc->has_joints ? sc->joints : NULL;
+    return 0;
+}
+
+double sim_scene_duration(const sim_scene *sc)
+{
+    if (sc->kind != 1)
+        return 1e9;
+    if (sc->motion >= 0)
+        return fit_motion_duration((fit_motion)sc->motion);
+    double total = 0.0;
+    for (int i = 0; i < SCENE_MOTIONS; i++)
+        total += segment_length(fit_motion_from_name(motion_names[i]));
+    return total;
+}
+#else
+/* Without bodyfit: a capsule figure (torso and two arms, as separate closed spheres stretched
+ * into ellipsoids) whose arms swing fore and aft, the wrists reaching 3 m/s in fast_swing. */
+#define FIG_PARTS 3
+static const float fig_centre[FIG_PARTS][3] = {{0, 1.25f, 0}, {-0.24f, 1.2f, 0}, {0.24f, 1.2f, 0}};
+static const float fig_radii[FIG_PARTS][3] = {
+    {0.16f, 0.32f, 0.11f}, {0.05f, 0.3f, 0.05f}, {0.05f, 0.3f, 0.05f}};
+#define FIG_RINGS 16
+
+sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
+{
+    (void)target_vertices;
+    int m = -1;
+    for (int i = 0; i < SCENE_MOTIONS; i++)
+        if (strcmp(motion, motion_names[i]) == 0)
+            m = i;
+    if (m < 0 && strcmp(motion, "all") != 0) {
+        snprintf(err, err_size, "motion '%s' unknown", motion);
+        return NULL;
+    }
+    int pv = 2 + (FIG_RINGS - 1) * 2 * FIG_RINGS, pt = 2 * 2 * FIG_RINGS * (FIG_RINGS - 1);
+    sim_scene *sc = scene_alloc(pv * FIG_PARTS, pt * FIG_PARTS);
+    if (!sc) {
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    for (int p = 0; p < FIG_PARTS; p++) {
+        float o[3] = {0, 0, 0};
+        sphere_mesh(sc->rest + p * pv * 3, sc->tris + p * pt * 3, FIG_RINGS, 2 * FIG_RINGS, 1.0f,
+                    o);
+        for (int i = 0; i < pv; i++)
+            for (int d = 0; d < 3; d++)
+                sc->rest[(p * pv + i) * 3 + d] =
+                    sc->rest[(p * pv + i) * 3 + d] * fig_radii[p][d] + fig_centre[p][d];
+        for (int i = 0; i < pt * 3; i++)
+            sc->tris[p * pt * 3 + i] += p * pv;
+    }
+    sc->kind = 2;
+    sc->motion = m;
+    snprintf(sc->describe, sizeof sc->describe, "capsule figure (bodyfit not linked), motion %s",
+             motion);
+    return sc;
+}
+
+int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
+                   int *nt, const float **joints)
+{
+    if (sc->kind == 2) {
+        /* arms swing about the shoulder (y = 1.5 m); fast_swing: amplitude 0.9 rad at 1.6 Hz
+         * gives 0.55 m * 0.9 * 2 pi * 1.6 = 5 m/s peak at the hand */
+        int m = sc->motion < 0 ? (int)(t_s / SCENE_SEGMENT_S) % SCENE_MOTIONS : sc->motion;
+        float amp = m == 4 ? 0.9f : (m == 0 ? 0.0f : 0.3f);
+        float freq = m == 4 ? 1.6f : 0.5f;
+        int pv = sc->nv / FIG_PARTS;
+        memcpy(sc->xyz, sc->rest, (size_t)sc->nv * 3 * sizeof *sc->xyz);
+        for (int p = 1; p < FIG_PARTS; p++) {
+            float a = amp * sinf(2.0f * SCENE_PI * freq * (float)t_s) * (p == 1 ? 1.0f : -1.0f);
+            for (int i = p * pv; i < (p + 1) * pv; i++) {
+                float y = sc->rest[i * 3 + 1] - 1.5f, z = sc->rest[i * 3 + 2];
+                sc->xyz[i * 3 + 1] = 1.5f + y * cosf(a) - z * sinf(a);
+                sc->xyz[i * 3 + 2] = y * sinf(a) + z * cosf(a);
+            }
+        }
+    }
+    *xyz = sc->xyz;
+    *nv = sc->nv;
+    *tris = sc->tris;
+    *nt = sc->nt;
+    if (joints)
+        *joints = NULL;
+    return 0;
+}
+
+double sim_scene_duration(const sim_scene *sc)
+{
+    return sc->kind == 2 ? SCENE_SEGMENT_S * SCENE_MOTIONS : 1e9;
+}
+#endif
+
+const char *sim_scene_describe(const sim_scene *sc)
+{
+    return sc->describe;
+}

@@ -1,0 +1,25 @@
+/* Private to sim/: the benchmark and test scenes' bodies. A scene body is a triangle mesh that
+ * moves with time: a fixed sphere, or the bodyfit model in scripted motion (a capsule figure
+ * when bodyfit is not linked). */
+#ifndef TRYON_SIM_SCENE_H
+#define TRYON_SIM_SCENE_H
+
+#include <stdint.h>
+
+typedef struct sim_scene sim_scene;
+
+/* A UV sphere of about n_triangles (closed, counter-clockwise from outside). */
+sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangles);
+/* The body model playing motion ("all" = still, arm_raise, turn, walk, fast_swing in turn, each
+ * at most 3 s). NULL with err filled when the motion is unknown. */
+sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size);
+void sim_scene_destroy(sim_scene *sc);
+
+/* Pose the body at time t_s. The arrays stay valid until the next call. joints: FIT_JOINT_COUNT
+ * * 3 floats, or NULL for bodies without a skeleton. Returns 0 or -1. */
+int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
+                   int *nt, const float **joints);
+double sim_scene_duration(const sim_scene *sc); /* seconds of motion before it loops */
+const char *sim_scene_describe(const sim_scene *sc);
+
+#endif

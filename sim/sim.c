@@ -1,0 +1,496 @@
+/* The per-frame driver: validation, the body frames, the backend, divergence detection and
+ * recovery, and the published metrics. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cloth.h"
+
+#define SIM_ERROR_NAME(id, text) #id,
+#define SIM_ERROR_TEXT(id, text) text,
+static const char *const error_names[] = {SIM_ERROR_LIST(SIM_ERROR_NAME)};
+static const char *const error_texts[] = {SIM_ERROR_LIST(SIM_ERROR_TEXT)};
+
+const char *sim_error_name(int e)
+{
+    e = e < 0 ? -e : e;
+    return e < SIM_ERROR_COUNT ? error_names[e] : "SIM_ERR_UNKNOWN";
+}
+
+const char *sim_error_text(int e)
+{
+    e = e < 0 ? -e : e;
+    return e < SIM_ERROR_COUNT ? error_texts[e] : "unknown error";
+}
+
+const char *sim_state_name(sim_state s)
+{
+    switch (s) {
+    case SIM_STATE_OK:
+        return "ok";
+    case SIM_STATE_RECOVERED:
+        return "recovered";
+    case SIM_STATE_DIVERGED:
+        return "diverged";
+    }
+    return "unknown";
+}
+
+int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
+{
+    if (why) {
+        why->code = code;
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
+        va_end(ap);
+    }
+    return -(int)code;
+}
+
+sim_desc sim_default_desc(void)
+{
+    return (sim_desc){
+        .backend = SIM_BACKEND_C,
+        .solver = SIM_SOLVER_TRYON,
+        .iterations = 25,
+        .frame_dt_s = 1.0f / 30.0f,
+        .fabric = {.density_kg_m2 = 0.2f,
+                   .stretch_n_m = 1000.0f,
+                   .shear_n_m = 100.0f,
+                   .bend_n_m = 2.0f},
+        .damping = 0.5f,
+        .thickness_m = 0.004f,
+        .friction = 0.3f,
+        .gravity_m_s2 = 9.81f,
+        .strain_limit = 0.01f,
+        .max_body_vertices = 100000,
+        .max_body_triangles = 200000,
+    };
+}
+
+/* Zero means default; negative means none where the header says so. */
+static sim_desc fill_defaults(const sim_desc *in)
+{
+    sim_desc d = in ? *in : sim_default_desc();
+    sim_desc z = sim_default_desc();
+#define DEFAULT(f)                                                                                 \
+    if (d.f == 0)                                                                                  \
+    d.f = z.f
+    DEFAULT(iterations);
+    DEFAULT(frame_dt_s);
+    DEFAULT(fabric.density_kg_m2);
+    DEFAULT(fabric.stretch_n_m);
+    DEFAULT(fabric.shear_n_m);
+    DEFAULT(fabric.bend_n_m);
+    DEFAULT(damping);
+    DEFAULT(thickness_m);
+    DEFAULT(friction);
+    DEFAULT(gravity_m_s2);
+    DEFAULT(strain_limit);
+    DEFAULT(max_body_vertices);
+    DEFAULT(max_body_triangles);
+#undef DEFAULT
+    if (d.damping < 0.0f)
+        d.damping = 0.0f;
+    if (d.friction < 0.0f)
+        d.friction = 0.0f;
+    if (d.gravity_m_s2 < 0.0f)
+        d.gravity_m_s2 = 0.0f;
+    return d;
+}
+
+static int check_desc(const sim_desc *d, sim_reject *why)
+{
+    const sim_fabric *f = &d->fabric;
+    if (d->iterations < 1 || d->iterations > 10000)
+        return sim_reject_set(why, SIM_ERR_PARAM, "iterations = %d (1..10000)", d->iterations);
+    if (!(d->frame_dt_s > 0.0f && d->frame_dt_s < 1.0f))
+        return sim_reject_set(why, SIM_ERR_PARAM, "frame_dt_s = %g (0..1 s)", d->frame_dt_s);
+    if (!(f->density_kg_m2 > 0.0f && f->stretch_n_m > 0.0f && f->shear_n_m > 0.0f &&
+          f->bend_n_m > 0.0f && isfinite(f->stretch_n_m) && isfinite(f->shear_n_m) &&
+          isfinite(f->bend_n_m) && isfinite(f->density_kg_m2)))
+        return sim_reject_set(why, SIM_ERR_PARAM,
+                              "fabric density and stiffnesses must be "
+                              "positive and finite");
+    if (!(d->damping < 1.0f) || !isfinite(d->friction) || !isfinite(d->gravity_m_s2) ||
+        !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f))
+        return sim_reject_set(why, SIM_ERR_PARAM,
+                              "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0 needed");
+    if (d->backend != SIM_BACKEND_C && d->backend != SIM_BACKEND_OPENCL)
+        return sim_reject_set(why, SIM_ERR_PARAM, "backend %d unknown", (int)d->backend);
+    if (d->solver != SIM_SOLVER_TRYON && d->solver != SIM_SOLVER_SEED)
+        return sim_reject_set(why, SIM_ERR_PARAM, "solver %d unknown", (int)d->solver);
+    return 0;
+}
+
+int sim_body_validate(const float *xyz, int nv, const int32_t *tris, int nt, sim_reject *why)
+{
+    if (nv <= 0 || nt <= 0 || !xyz || !tris)
+        return sim_reject_set(why, SIM_ERR_EMPTY, "body: %d vertices, %d triangles", nv, nt);
+    for (int i = 0; i < nv * 3; i++)
+        if (!isfinite(xyz[i]))
+            return sim_reject_set(why, SIM_ERR_NOT_FINITE, "body vertex %d coordinate %d = %g",
+                                  i / 3, i % 3, xyz[i]);
+    for (int t = 0; t < nt; t++) {
+        const int32_t *v = &tris[t * 3];
+        for (int k = 0; k < 3; k++)
+            if (v[k] < 0 || v[k] >= nv)
+                return sim_reject_set(why, SIM_ERR_INDEX,
+                                      "body triangle %d: index %d outside 0..%d", t, v[k], nv - 1);
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+            return sim_reject_set(why, SIM_ERR_DEGENERATE,
+                                  "body triangle %d repeats a vertex (%d %d %d)", t, v[0], v[1],
+                                  v[2]);
+    }
+    return 0;
+}
+
+static void body_free(sim_body *b)
+{
+    free(b->v);
+    free(b->v_prev);
+    free(b->tris);
+    free(b->n);
+    memset(b, 0, sizeof *b);
+}
+
+static int body_alloc(sim_body *b, int max_v, int max_t)
+{
+    b->v = calloc((size_t)max_v, sizeof *b->v);
+    b->v_prev = calloc((size_t)max_v, sizeof *b->v_prev);
+    b->tris = calloc((size_t)max_t, sizeof *b->tris);
+    b->n = calloc((size_t)max_t, sizeof *b->n);
+    return (b->v && b->v_prev && b->tris && b->n) ? 0 : -SIM_ERR_NO_MEMORY;
+}
+
+/* Frame k becomes k-1; the new frame, its triangles and face normals are stored. */
+static void body_store(sim_body *b, const float *xyz, int nv, const int32_t *tris, int nt)
+{
+    int same = b->nv == nv && b->nt == nt;
+    for (int t = 0; same && t < nt; t++)
+        same = b->tris[t][0] == tris[t * 3] && b->tris[t][1] == tris[t * 3 + 1] &&
+               b->tris[t][2] == tris[t * 3 + 2];
+    float(*tmp)[4] = b->v_prev;
+    b->v_prev = b->v;
+    b->v = tmp;
+    for (int i = 0; i < nv; i++) {
+        for (int d = 0; d < 3; d++)
+            b->v[i][d] = xyz[i * 3 + d];
+        b->v[i][3] = 0.0f;
+    }
+    b->have_prev = same;
+    b->nv = nv;
+    b->nt = nt;
+    for (int t = 0; t < nt; t++) {
+        for (int k = 0; k < 3; k++)
+            b->tris[t][k] = tris[t * 3 + k];
+        const float *p0 = b->v[tris[t * 3]], *p1 = b->v[tris[t * 3 + 1]],
+                    *p2 = b->v[tris[t * 3 + 2]];
+        float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0]};
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        float inv = len > 0.0f ? 1.0f / len : 0.0f;
+        for (int d = 0; d < 3; d++)
+            b->n[t][d] = n[d] * inv;
+    }
+}
+
+/* seed: explicit springs are stable only for dt < 2 sqrt(m / k_sum), k_sum the stiffness on a
+ * vertex. The seed must run with springs soft enough for its step, and relies on Provot's
+ * correction for the rest; we clamp the same way (half the limit, for margin) and say so. */
+static void clamp_seed_stiffness(sim_cloth *c, float dt)
+{
+    float m_min = INFINITY;
+    for (int i = 0; i < c->nv; i++)
+        if (c->x[i][3] > 0.0f && 1.0f / c->x[i][3] < m_min)
+            m_min = 1.0f / c->x[i][3];
+    if (!isfinite(m_min))
+        return;
+    /* a grid vertex carries 4 springs of each kind; 12 in all */
+    float k_max = 0.5f * 4.0f * m_min / (dt * dt) / 12.0f;
+    for (int k = 0; k < SIM_SPRING_KINDS; k++)
+        if (c->k[k] > k_max)
+            c->k[k] = k_max;
+}
+
+static const sim_backend_ops *backend_ops(sim_backend b)
+{
+#ifdef SIM_HAVE_OPENCL
+    if (b == SIM_BACKEND_OPENCL)
+        return &sim_backend_opencl;
+#endif
+    return b == SIM_BACKEND_C ? &sim_backend_c : NULL;
+}
+
+sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
+{
+    sim_reject local;
+    if (!why)
+        why = &local;
+    memset(why, 0, sizeof *why);
+    sim_desc d = fill_defaults(desc);
+    if (check_desc(&d, why) < 0)
+        return NULL;
+    if (!g) {
+        sim_reject_set(why, SIM_ERR_ARG, "no garment");
+        return NULL;
+    }
+    if (sim_garment_validate(g, d.max_body_triangles, why) < 0)
+        return NULL;
+    const sim_backend_ops *ops = backend_ops(d.backend);
+    if (!ops) {
+        sim_reject_set(why, SIM_ERR_BACKEND, "backend %s not built into this binary",
+                       d.backend == SIM_BACKEND_OPENCL ? "opencl" : "?");
+        return NULL;
+    }
+    sim *s = calloc(1, sizeof *s);
+    if (!s) {
+        sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim");
+        return NULL;
+    }
+    s->desc = d;
+    s->ops = ops;
+    int r = sim_cloth_init(&s->cloth, g, &d.fabric, why);
+    if (r < 0) {
+        if (why->detail[0] == 0)
+            sim_reject_set(why, (sim_error)-r, "building the cloth of %d vertices",
+                           g->num_vertices);
+        why->code = (sim_error)-r;
+        free(s);
+        return NULL;
+    }
+    if (d.solver == SIM_SOLVER_SEED)
+        clamp_seed_stiffness(&s->cloth, d.frame_dt_s / (float)d.iterations);
+    int nv = s->cloth.nv;
+    s->x_good = malloc((size_t)nv * sizeof *s->x_good);
+    s->x_prev_good = malloc((size_t)nv * sizeof *s->x_prev_good);
+    s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
+    s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
+    if (!s->x_good || !s->x_prev_good || !s->scratch || !s->tris3 ||
+        body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
+        sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
+        sim_destroy(s);
+        return NULL;
+    }
+    memcpy(s->x_good, s->cloth.x, (size_t)nv * sizeof *s->x_good);
+    memcpy(s->x_prev_good, s->cloth.x_prev, (size_t)nv * sizeof *s->x_prev_good);
+    memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
+
+    char err[160] = "";
+    sim_collider_desc cd = {
+        .max_vertices = d.max_body_vertices,
+        .max_triangles = d.max_body_triangles,
+        .thickness_m = d.thickness_m,
+        .friction = d.friction,
+        .reach_m = SIM_CONTACT_MARGIN,
+        .max_cloth = nv,
+    };
+    s->collider = sim_collider_create(&cd, err, sizeof err);
+    if (!s->collider) {
+        sim_reject_set(why, SIM_ERR_BACKEND, "collider: %s", err);
+        sim_destroy(s);
+        return NULL;
+    }
+    if (ops->create(s, &s->backend, err, sizeof err) < 0) {
+        sim_reject_set(why, SIM_ERR_BACKEND, "%s backend: %s", ops->name, err);
+        sim_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+void sim_destroy(sim *s)
+{
+    if (!s)
+        return;
+    if (s->ops && s->backend)
+        s->ops->destroy(s->backend);
+    sim_collider_destroy(s->collider);
+    sim_cloth_free(&s->cloth);
+    body_free(&s->body);
+    free(s->x_good);
+    free(s->x_prev_good);
+    free(s->scratch);
+    free(s->tris3);
+    free(s);
+}
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+/* Divergence: a coordinate that is not finite, a point faster than any garment moves on a
+ * person, or a stretch no fabric survives. */
+static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strain)
+{
+    const sim_cloth *c = &s->cloth;
+    float dt = s->desc.frame_dt_s / (float)iters;
+    float max_step2 = SIM_DIVERGE_SPEED * dt * SIM_DIVERGE_SPEED * dt;
+    for (int i = 0; i < c->nv; i++) {
+        float v2 = 0.0f;
+        for (int d = 0; d < 3; d++) {
+            if (!isfinite(c->x[i][d]) || !isfinite(c->x_prev[i][d]))
+                return 1;
+            float dv = c->x[i][d] - c->x_prev[i][d];
+            v2 += dv * dv;
+        }
+        if (v2 > max_step2)
+            return 1;
+    }
+    sim_strain_stats(c, s->scratch, max_strain, p99_strain);
+    return !(*max_strain < SIM_DIVERGE_STRAIN);
+}
+
+static void save_good(sim *s)
+{
+    size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_good;
+    memcpy(s->x_good, s->cloth.x, bytes);
+    memcpy(s->x_prev_good, s->cloth.x_prev, bytes);
+}
+
+static void restore_good(sim *s)
+{
+    size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_good;
+    memcpy(s->cloth.x, s->x_good, bytes);
+    memcpy(s->cloth.x_prev, s->x_prev_good, bytes);
+    s->ops->upload(s->backend, s);
+}
+
+static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int nt, sim_reject *why)
+{
+    int r = sim_body_validate(xyz, nv, tris, nt, why);
+    if (r < 0)
+        return r;
+    if (nv > s->desc.max_body_vertices || nt > s->desc.max_body_triangles)
+        return sim_reject_set(why, SIM_ERR_TOO_LARGE, "body of %d vertices, %d triangles > %d, %d",
+                              nv, nt, s->desc.max_body_vertices, s->desc.max_body_triangles);
+    for (int a = 0; a < s->cloth.num_attachments; a++)
+        if (s->cloth.attachments[a].body_triangle >= nt)
+            return sim_reject_set(why, SIM_ERR_TOPOLOGY,
+                                  "attachment %d needs body triangle %d; body has %d", a,
+                                  s->cloth.attachments[a].body_triangle, nt);
+    r = sim_collider_set_body(s->collider, xyz, nv, tris, nt);
+    if (r < 0 && r != SIM_COLLIDE_ETOPOLOGY)
+        return sim_reject_set(why,
+                              r == SIM_COLLIDE_EDEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
+                              "body rejected by the collider: %s", sim_collide_error_str(r));
+    body_store(&s->body, xyz, nv, tris, nt);
+    if (r == SIM_COLLIDE_ETOPOLOGY)
+        s->body.have_prev = 0;
+    return 0;
+}
+
+int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+             sim_frame_stats *st, sim_reject *why)
+{
+    sim_frame_stats local;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    if (!s)
+        return sim_reject_set(why, SIM_ERR_ARG, "sim is NULL");
+    double t0 = now_ms();
+    int r = set_body(s, body_xyz, nv, body_tris, nt, why);
+    if (r < 0) {
+        st->state = SIM_STATE_OK; /* nothing simulated; the last good cloth stands */
+        return r;
+    }
+    double t1 = now_ms();
+    st->ms_bvh = (float)(t1 - t0);
+
+    int iters = s->desc.iterations, ok = 0;
+    float max_strain = 0.0f, p99 = 0.0f;
+    for (int attempt = 0; attempt <= SIM_MAX_RETRIES; attempt++) {
+        r = s->ops->frame(s->backend, s, iters, st);
+        if (r == 0 && !state_diverged(s, iters, &max_strain, &p99)) {
+            ok = 1;
+            break;
+        }
+        /* restore the last good state and retry with smaller steps */
+        restore_good(s);
+        if (attempt < SIM_MAX_RETRIES) {
+            st->retries++;
+            iters *= 2;
+        }
+    }
+    st->iterations_used = iters;
+    s->frame++;
+    double t2 = now_ms();
+    if (!ok) {
+        st->state = SIM_STATE_DIVERGED;
+        sim_strain_stats(&s->cloth, s->scratch, &st->max_strain, &st->p99_strain);
+        st->ms_total = (float)(now_ms() - t0);
+        return sim_reject_set(why, SIM_ERR_DIVERGED,
+                              "frame %ld: diverged with %d, and up to %d iterations; the last "
+                              "good cloth is kept",
+                              s->frame, s->desc.iterations, iters);
+    }
+    st->state = st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK;
+    st->max_strain = max_strain;
+    st->p99_strain = p99;
+    float depth = 0.0f;
+    sim_collider_penetration(s->collider, (const float(*)[4])s->cloth.x, s->cloth.nv, SIM_PEN_TOL_M,
+                             &st->penetrating, &depth);
+    st->max_pen_mm = depth * 1000.0f;
+    save_good(s);
+    double t3 = now_ms();
+    st->ms_metrics = (float)(t3 - t2);
+    st->ms_total = (float)(t3 - t0);
+    return 0;
+}
+
+int sim_vertex_count(const sim *s)
+{
+    return s->cloth.nv;
+}
+
+int sim_triangle_count(const sim *s)
+{
+    return s->cloth.nt;
+}
+
+const float *sim_positions(const sim *s)
+{
+    return &s->cloth.x[0][0];
+}
+
+void sim_copy_positions(const sim *s, float *xyz)
+{
+    for (int i = 0; i < s->cloth.nv; i++)
+        for (int d = 0; d < 3; d++)
+            xyz[i * 3 + d] = s->cloth.x[i][d];
+}
+
+const int32_t *sim_triangles(const sim *s)
+{
+    return s->tris3;
+}
+
+const char *sim_device_name(const sim *s)
+{
+    return s->ops->device_name(s->backend);
+}
+
+const sim_desc *sim_get_desc(const sim *s)
+{
+    return &s->desc;
+}
+
+void sim_debug_set_vertex(sim *s, int i, float x, float y, float z)
+{
+    if (i < 0 || i >= s->cloth.nv)
+        return;
+    s->cloth.x[i][0] = x;
+    s->cloth.x[i][1] = y;
+    s->cloth.x[i][2] = z;
+    s->ops->upload(s->backend, s);
+}

@@ -1,0 +1,161 @@
+/* The C twins of kernels/springs.cl: integration and the spring passes. Same names, same order of
+ * operations; each function handles a range so the caller can split it over threads. */
+#include <math.h>
+
+#include "cloth.h"
+
+void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
+                const float accel_dt2[3])
+{
+    for (int i = begin; i < end; i++) {
+        if (x[i][3] == 0.0f)
+            continue; /* pinned or attached: the driver places it */
+        for (int d = 0; d < 3; d++) {
+            float xi = x[i][d];
+            float v = (xi - x_prev[i][d]) * keep;
+            x_prev[i][d] = xi;
+            x[i][d] = xi + v + accel_dt2[d];
+        }
+    }
+}
+
+/* Seed 003 / seed 000: f_i = sum_j k_ij (|x_j - x_i| - l_ij) along the spring, plus a damper on
+ * the relative velocity along the spring (c = damp_ratio * k * dt, a stiffness-proportional
+ * damper). Springs of one colour share no vertex, so the accumulation does not race. */
+void sim_spring_forces(const float (*x)[4], const float (*x_prev)[4], const int32_t (*ends)[2],
+                       const float *rest, const uint8_t *kind, const float k[SIM_SPRING_KINDS],
+                       int begin, int end, float dt, float damp_ratio, float (*acc_dt2)[4])
+{
+    for (int s = begin; s < end; s++) {
+        int i = ends[s][0], j = ends[s][1];
+        float d[3], dv[3];
+        for (int a = 0; a < 3; a++) {
+            d[a] = x[j][a] - x[i][a];
+            dv[a] = (x[j][a] - x_prev[j][a]) - (x[i][a] - x_prev[i][a]);
+        }
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (len < 1e-9f)
+            continue;
+        float ks = k[kind[s]];
+        float vrel = (dv[0] * d[0] + dv[1] * d[1] + dv[2] * d[2]) / len / dt;
+        float f = ks * (len - rest[s]) + damp_ratio * ks * dt * vrel; /* N, along d */
+        float fdt2 = f * dt * dt / len;
+        for (int a = 0; a < 3; a++) {
+            acc_dt2[i][a] += d[a] * fdt2 * x[i][3];
+            acc_dt2[j][a] -= d[a] * fdt2 * x[j][3];
+        }
+    }
+}
+
+void sim_verlet_forces(float (*x)[4], float (*x_prev)[4], const float (*acc_dt2)[4], int begin,
+                       int end, float keep, const float g_dt2[3])
+{
+    for (int i = begin; i < end; i++) {
+        if (x[i][3] == 0.0f)
+            continue;
+        for (int d = 0; d < 3; d++) {
+            float xi = x[i][d];
+            float v = (xi - x_prev[i][d]) * keep;
+            x_prev[i][d] = xi;
+            x[i][d] = xi + v + acc_dt2[i][d] + g_dt2[d];
+        }
+    }
+}
+
+/* Provot 1995: a spring longer than (1 + tau) rest is shortened back to it, each end moved in
+ * proportion to its inverse mass (a pinned end stays). */
+void sim_provot_correct(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                        const uint8_t *kind, int begin, int end, float tau)
+{
+    for (int s = begin; s < end; s++) {
+        if (kind[s] == SIM_SPRING_BEND)
+            continue; /* Provot corrects the structural (stretch, shear) springs only */
+        int i = ends[s][0], j = ends[s][1];
+        float wi = x[i][3], wj = x[j][3];
+        float wsum = wi + wj;
+        if (wsum == 0.0f)
+            continue;
+        float d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float lmax = rest[s] * (1.0f + tau);
+        if (len <= lmax)
+            continue;
+        float c = (len - lmax) / (len * wsum);
+        for (int a = 0; a < 3; a++) {
+            x[i][a] += d[a] * c * wi;
+            x[j][a] -= d[a] * c * wj;
+        }
+    }
+}
+
+/* XPBD (Macklin et al. 2016), one Gauss-Seidel pass in small steps (Macklin et al. 2019): with
+ * one pass per substep the multiplier starts at zero, so dlambda = -C / (wi + wj + alpha) with
+ * alpha = 1 / (k dt^2), the compliance of a spring of stiffness k. */
+void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                         const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int begin,
+                         int end)
+{
+    for (int s = begin; s < end; s++) {
+        int i = ends[s][0], j = ends[s][1];
+        float wi = x[i][3], wj = x[j][3];
+        float wsum = wi + wj + alpha[kind[s]];
+        if (wi + wj == 0.0f)
+            continue;
+        float d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (len < 1e-9f)
+            continue;
+        float c = (len - rest[s]) / (len * wsum);
+        for (int a = 0; a < 3; a++) {
+            x[i][a] += d[a] * c * wi;
+            x[j][a] -= d[a] * c * wj;
+        }
+    }
+}
+
+/* Strain limiting (Provot's correction made a hard limit): stretch springs only. */
+void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                      const uint8_t *kind, int begin, int end, float limit)
+{
+    for (int s = begin; s < end; s++) {
+        if (kind[s] != SIM_SPRING_STRETCH)
+            continue;
+        int i = ends[s][0], j = ends[s][1];
+        float wi = x[i][3], wj = x[j][3];
+        float wsum = wi + wj;
+        if (wsum == 0.0f)
+            continue;
+        float d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float lmax = rest[s] * (1.0f + limit);
+        if (len <= lmax)
+            continue;
+        float c = (len - lmax) / (len * wsum);
+        for (int a = 0; a < 3; a++) {
+            x[i][a] += d[a] * c * wi;
+            x[j][a] -= d[a] * c * wj;
+        }
+    }
+}
+
+/* Long-range attachments (Kim, Tessendorf, Thuerey 2012): a unilateral constraint from each free
+ * vertex to its nearest attached vertex. Only the free end moves, so vertices are independent and
+ * the pass needs no colouring. It carries the weight of a hanging garment in one step where
+ * Gauss-Seidel over springs needs one sweep per row. */
+void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int begin, int end,
+                 float limit)
+{
+    for (int i = begin; i < end; i++) {
+        int a = anchor[i];
+        if (a < 0 || x[i][3] == 0.0f)
+            continue;
+        float d[3] = {x[i][0] - x[a][0], x[i][1] - x[a][1], x[i][2] - x[a][2]};
+        float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float lmax = len[i] * (1.0f + limit);
+        if (l <= lmax)
+            continue;
+        float c = (l - lmax) / l;
+        for (int k = 0; k < 3; k++)
+            x[i][k] -= d[k] * c;
+    }
+}
