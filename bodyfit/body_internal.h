@@ -12,6 +12,8 @@
 #define BODY_UPPER_ARM_FRACTION 0.54f
 #define BODY_ARM_MEASURE_AT     0.4f
 #define BODY_THIGH_MEASURE_AT   0.3f
+/* Clear space between the thighs where their girth is measured, m (times height / 1.75 m). */
+#define BODY_THIGH_GAP 0.044f
 
 /* Perimeter of an ellipse with semi-axes a and q*a is pi * a * body_ellipse_g(q). */
 float body_ellipse_g(float q);
@@ -53,6 +55,7 @@ typedef struct body_field {
     float head_c[3], head_r[3];
     body_cone cone[BODY_MAX_CONES];
     int cone_count;
+    float min_radius;   /* thinnest part (hand, wrist), m: the grid must resolve it */
     float blend;        /* exponential smooth-union radius, m */
     float skin_sigma;   /* softness of the skinning partition, m */
     float lo[3], hi[3]; /* bounding box of the surface plus a margin */

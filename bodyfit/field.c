@@ -50,8 +50,10 @@ static void build_arm(body_field *f, const body_skeleton *sk, const fit_shape *s
     along(wr, sk->arm_dir[side], 0.10f * sc, hand);
     add_cone(f, sk->joint[cl], sh, 0.048f * sc, 1.02f * r, cl);
     add_cone(f, sh, el, 1.08f * r, 0.76f * r, cl + 1);
-    add_cone(f, el, wr, 0.74f * r, 0.52f * r, cl + 2);
-    add_cone(f, wr, hand, 0.56f * r, 0.50f * r, cl + 3);
+    /* Wrists and hands keep a floor: a thin upper arm does not make a needle of a hand. */
+    float rw = fmaxf(0.52f * r, 0.022f * sc), rh = fmaxf(0.50f * r, 0.021f * sc);
+    add_cone(f, el, wr, 0.74f * r, rw, cl + 2);
+    add_cone(f, wr, hand, fmaxf(0.56f * r, rw), rh, cl + 3);
 }
 
 static void build_leg(body_field *f, const body_skeleton *sk, const fit_shape *s,
@@ -66,7 +68,7 @@ static void build_leg(body_field *f, const body_skeleton *sk, const fit_shape *s
     for (int k = 0; k < 3; ++k)
         top[k] = hp[k] + 0.15f * (kn[k] - hp[k]);
     add_cone(f, top, kn, 1.0f * r, 0.62f * r, hip);
-    add_cone(f, kn, an, 0.60f * r, 0.40f * r, hip + 1);
+    add_cone(f, kn, an, 0.60f * r, fmaxf(0.40f * r, 0.03f * sc), hip + 1);
     float heel[3] = {an[0], an[1] - 0.035f * sc, an[2] - 0.045f * sc};
     float tip[3] = {an[0], 0.028f * sc, toe[2] + 0.06f * sc};
     body_cone *foot = add_cone(f, heel, tip, 0.038f * sc, 0.028f * sc, hip + 2);
@@ -125,6 +127,9 @@ void body_field_build(const body_skeleton *sk, const fit_shape *s, const body_ca
         build_arm(f, sk, s, c, side);
         build_leg(f, sk, s, c, side);
     }
+    f->min_radius = 1.0f;
+    for (int i = 0; i < f->cone_count; ++i)
+        f->min_radius = fminf(f->min_radius, fminf(f->cone[i].ra, f->cone[i].rb));
     f->blend = 0.010f * sc;
     f->skin_sigma = 0.010f * sc;
     /* Bounds: every joint and the head, padded by the largest radius and a margin. */

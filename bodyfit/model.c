@@ -19,14 +19,20 @@
 /* Marching tetrahedra produce this many times the wanted vertices; collapses bring it down. */
 #define BODY_OVERSAMPLE 2.2f
 
-/* Marching tetrahedra at a spacing giving about 3x the target, retried on a shifted grid if a
- * thin gap sampled badly (the body must be one sphere-like surface), then decimated. */
-static int build_mesh(const body_field *f, float scale, int target, body_mesh *m)
+/* Marching tetrahedra at a spacing giving about 2x the target, retried on a shifted grid if a
+ * thin gap sampled badly (the body must be one sphere-like surface), then decimated and
+ * smoothed when finish is set (calibration measures the raw, projected mesh). */
+static int build_mesh(const body_field *f, float scale, int target, int finish, body_mesh *m)
 {
     float area = 1.9f * scale * scale;
     float h = sqrtf(BODY_MT_DENSITY * area / (BODY_OVERSAMPLE * (float)target));
+    /* A cylinder of radius r always holds grid points when r exceeds ~0.87 h; and the thighs'
+     * 4.4 cm gap (skeleton.c) stays open when no grid edge (up to sqrt(3) h) spans it. */
+    h = fminf(h, fminf(1.1f * f->min_radius, BODY_THIGH_GAP * scale * 0.577f));
     int rc = FIT_ERR_MESH;
-    for (int attempt = 0; attempt < 6; ++attempt) {
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        if (attempt >= 2)
+            h *= 0.9f; /* shifting alone did not help: sample finer */
         float off[3] = {fmodf(0.37f * (float)attempt, 1.0f) * h,
                         fmodf(0.23f * (float)attempt, 1.0f) * h,
                         fmodf(0.31f * (float)attempt, 1.0f) * h};
@@ -37,12 +43,15 @@ static int build_mesh(const body_field *f, float scale, int target, body_mesh *m
         rc = body_mesh_topology(m, &euler, &comps);
         if (!rc && euler == 2 && comps == 1 && m->nv >= target)
             break;
+        if (getenv("BODY_DEBUG"))
+            fprintf(stderr, "attempt %d: euler %d comps %d nv %d h %.4f\n", attempt, euler, comps,
+                    m->nv, h);
         if (!rc && m->nv < target)
             h *= 0.85f;
         body_mesh_free(m);
         rc = FIT_ERR_MESH;
     }
-    if (rc)
+    if (rc || !finish)
         return rc;
     rc = body_mesh_decimate(f, m, target);
     if (!rc)
@@ -93,11 +102,11 @@ static void calib_update(calib_state *s, const fit_shape *want, const fit_shape 
         calib_step(s->c.leg, want->leg_girth, got->leg_girth, &s->prev_c.leg, &s->prev_got.leg);
 }
 
-static int build_and_measure(fit_model *m, const body_calib *c, int target)
+static int build_and_measure(fit_model *m, const body_calib *c, int target, int finish)
 {
     body_mesh_free(&m->mesh);
     body_field_build(&m->sk, &m->shape, c, &m->field);
-    int rc = build_mesh(&m->field, m->sk.scale, target, &m->mesh);
+    int rc = build_mesh(&m->field, m->sk.scale, target, finish, &m->mesh);
     if (!rc)
         rc = body_measure(m->mesh.v, m->mesh.nv, m->mesh.t, m->mesh.nt, &m->sk, &m->meas);
     if (!rc && getenv("BODY_DEBUG"))
@@ -114,7 +123,7 @@ static int calibrate(fit_model *m, int target)
     calib_state st = {{1.0f, 1.0f, 0.985f, 1.055f, 1.068f}, {0, 0, 0, 0, 0}, {0, 0, 0, 0, 0}};
     int coarse = target < BODY_CALIB_VERTICES ? target : BODY_CALIB_VERTICES;
     for (int it = 0; it < BODY_CALIB_ITERATIONS; ++it) {
-        int rc = build_and_measure(m, &st.c, coarse);
+        int rc = build_and_measure(m, &st.c, coarse, 0);
         if (rc)
             return rc;
         if (girth_error(&m->shape, &m->meas.shape) < 0.5f * BODY_GIRTH_TOLERANCE)
@@ -122,7 +131,7 @@ static int calibrate(fit_model *m, int target)
         calib_update(&st, &m->shape, &m->meas.shape);
     }
     for (int it = 0; it < 2; ++it) {
-        int rc = build_and_measure(m, &st.c, target);
+        int rc = build_and_measure(m, &st.c, target, 1);
         if (rc || girth_error(&m->shape, &m->meas.shape) < BODY_GIRTH_TOLERANCE)
             return rc;
         calib_update(&st, &m->shape, &m->meas.shape);

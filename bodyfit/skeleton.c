@@ -7,6 +7,10 @@
 #define FIT_PI 3.14159265358979f
 /* Rest A-pose: arms this far from hanging straight down, so they clear the torso. */
 #define BODY_ARM_ANGLE (45.0f * FIT_PI / 180.0f)
+/* Thigh girth over hip girth: about 0.55 in adults; past 0.62 two thighs no longer fit. */
+#define BODY_MAX_THIGH_HIP 0.62f
+/* Chest half-width over half the shoulder-joint distance: 0.85..1.0 in adults. */
+#define BODY_MAX_CHEST_SHOULDER 1.1f
 
 static const char *const joint_names[] = {
 #define X(id, name, parent) name,
@@ -206,7 +210,7 @@ static void build_legs(const fit_shape *s, body_skeleton *sk, float ankle_y, flo
     float hip_x = 0.5f * a_hip;
     float r_t = s->leg_girth / (2.0f * FIT_PI);
     float l1 = 0.5f * len, at = BODY_THIGH_MEASURE_AT * l1;
-    float sin_a = (r_t + 0.022f * sc - hip_x) / at;
+    float sin_a = (r_t + 0.5f * BODY_THIGH_GAP * sc - hip_x) / at;
     float lo = sinf(3.0f * FIT_PI / 180.0f), hi = sinf(14.0f * FIT_PI / 180.0f);
     sin_a = sin_a < lo ? lo : (sin_a > hi ? hi : sin_a);
     float cos_a = sqrtf(1.0f - sin_a * sin_a);
@@ -266,6 +270,26 @@ int body_skeleton_build(const fit_shape *s, body_skeleton *sk, char *err, size_t
                      "fit shape: leg_length %.3f m leaves a torso of %.3f m for height %.3f m "
                      "(needs %.3f..%.3f)",
                      s->leg_length, torso, s->height, 0.3f * sc, 0.7f * sc);
+        return FIT_ERR_RANGE;
+    }
+    /* Proportions the construction needs: thighs that fit side by side inside the hips, and
+     * A-pose arms that clear the chest (else the slices would measure arm and torso as one). */
+    if (s->leg_girth > BODY_MAX_THIGH_HIP * s->hip_girth) {
+        if (err)
+            snprintf(err, errlen,
+                     "fit shape: leg_girth %.3f m is more than %.2f of hip_girth %.3f m",
+                     s->leg_girth, BODY_MAX_THIGH_HIP, s->hip_girth);
+        return FIT_ERR_RANGE;
+    }
+    float a_chest = s->chest_girth / (FIT_PI * body_ellipse_g(BODY_CHEST_Q));
+    float r_arm = s->arm_girth / (2.0f * FIT_PI);
+    float clear = 0.5f * s->shoulder_width + 0.36f * torso - 1.5f * r_arm - a_chest;
+    if (clear < 0.03f * sc || a_chest > BODY_MAX_CHEST_SHOULDER * 0.5f * s->shoulder_width) {
+        if (err)
+            snprintf(err, errlen,
+                     "fit shape: chest_girth %.3f m and arm_girth %.3f m are too large for "
+                     "shoulder_width %.3f m (the arms would cut into the chest)",
+                     s->chest_girth, s->arm_girth, s->shoulder_width);
         return FIT_ERR_RANGE;
     }
     sk->torso_len = torso;

@@ -106,6 +106,26 @@ static void test_shape_validation_names_the_parameter(void **state)
     assert_string_equal(fit_error_string(FIT_ERR_IO), "file could not be written");
 }
 
+static void test_validation_rejects_inconsistent_proportions(void **state)
+{
+    (void)state;
+    char err[256];
+    fit_shape s = fit_shape_default();
+    s.leg_girth = 0.75f; /* two such thighs do not fit in 1 m of hips */
+    assert_int_equal(fit_shape_validate(&s, err, sizeof err), 0);
+    fit_model_desc d = {.shape = s};
+    assert_null(fit_model_create(&d, err, sizeof err));
+    assert_non_null(strstr(err, "leg_girth"));
+    d.shape = fit_shape_default();
+    d.shape.chest_girth = 1.35f; /* wider than the shoulders: the arms would cut in */
+    assert_null(fit_model_create(&d, err, sizeof err));
+    assert_non_null(strstr(err, "shoulder_width"));
+    d.shape = fit_shape_default();
+    d.shape.height = 1.40f; /* legs of 0.86 m leave too little torso */
+    assert_null(fit_model_create(&d, err, sizeof err));
+    assert_non_null(strstr(err, "leg_length"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -114,6 +134,7 @@ int main(void)
         cmocka_unit_test(test_broad_short_preset_measures_its_shape),
         cmocka_unit_test(test_shape_array_round_trips),
         cmocka_unit_test(test_shape_validation_names_the_parameter),
+        cmocka_unit_test(test_validation_rejects_inconsistent_proportions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
