@@ -43,9 +43,6 @@ static int build_mesh(const body_field *f, float scale, int target, int finish, 
         rc = body_mesh_topology(m, &euler, &comps);
         if (!rc && euler == 2 && comps == 1 && m->nv >= target)
             break;
-        if (getenv("BODY_DEBUG"))
-            fprintf(stderr, "attempt %d: euler %d comps %d nv %d h %.4f\n", attempt, euler, comps,
-                    m->nv, h);
         if (!rc && m->nv < target)
             h *= 0.85f;
         body_mesh_free(m);
@@ -109,10 +106,6 @@ static int build_and_measure(fit_model *m, const body_calib *c, int target, int 
     int rc = build_mesh(&m->field, m->sk.scale, target, finish, &m->mesh);
     if (!rc)
         rc = body_measure(m->mesh.v, m->mesh.nv, m->mesh.t, m->mesh.nt, &m->sk, &m->meas);
-    if (!rc && getenv("BODY_DEBUG"))
-        fprintf(stderr, "nv %d chest %.4f waist %.4f hip %.4f arm %.4f leg %.4f\n", m->mesh.nv,
-                m->meas.shape.chest_girth, m->meas.shape.waist_girth, m->meas.shape.hip_girth,
-                m->meas.shape.arm_girth, m->meas.shape.leg_girth);
     return rc;
 }
 

@@ -12,8 +12,10 @@
 #include <string.h>
 #include <unistd.h>
 
-/* Smallest triangle area we accept: a 0.1 mm sliver would break normals downstream. */
-#define MIN_TRIANGLE_AREA 1e-8
+/* Smallest triangle area and angle we accept: slivers break normals and collision downstream
+ * (the builder's decimation and smoothing give at least about 6 degrees in practice). */
+#define MIN_TRIANGLE_AREA      1e-8
+#define MIN_TRIANGLE_ANGLE_DEG 3.0
 
 static fit_model *model;
 
@@ -88,6 +90,20 @@ static void check_closed_manifold(const fit_model *m)
         double area = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         if (area < MIN_TRIANGLE_AREA)
             fail_msg("triangle %d has area %g m^2", i, area);
+        const float *p[3] = {p0, p1, p2};
+        for (int k = 0; k < 3; ++k) {
+            double a[3], b[3];
+            for (int c2 = 0; c2 < 3; ++c2) {
+                a[c2] = (double)p[(k + 1) % 3][c2] - p[k][c2];
+                b[c2] = (double)p[(k + 2) % 3][c2] - p[k][c2];
+            }
+            double cosang = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) /
+                            sqrt((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) *
+                                 (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
+            if (acos(fmin(1.0, fmax(-1.0, cosang))) * 180.0 / 3.14159265358979 <
+                MIN_TRIANGLE_ANGLE_DEG)
+                fail_msg("triangle %d has an angle under %.0f degrees", i, MIN_TRIANGLE_ANGLE_DEG);
+        }
     }
     qsort(e, (size_t)nt * 3, sizeof(uint64_t), cmp_u64);
     for (int i = 0; i < nt * 3; ++i) {
