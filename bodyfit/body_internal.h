@@ -50,7 +50,7 @@ typedef struct body_cone {
 typedef struct body_field {
     float key_y[BODY_TORSO_KEYS], key_a[BODY_TORSO_KEYS], key_b[BODY_TORSO_KEYS];
     float key_z[BODY_TORSO_KEYS];
-    float torso_lo, torso_hi, torso_round;
+    float torso_lo, torso_hi, torso_round, torso_round_top; /* rim radii, bottom and top */
     float spine_y, chest_y, torso_ramp; /* torso weight split pelvis / spine / chest */
     float head_c[3], head_r[3];
     body_cone cone[BODY_MAX_CONES];

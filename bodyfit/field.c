@@ -103,6 +103,7 @@ static void build_torso(body_field *f, const body_skeleton *sk, const fit_shape 
     f->torso_lo = y[0];
     f->torso_hi = top;
     f->torso_round = 0.035f * sc;
+    f->torso_round_top = 0.07f * sc; /* slopes the shoulders into the neck */
     f->spine_y = sk->joint[FIT_SPINE][1];
     f->chest_y = sk->joint[FIT_CHEST][1];
     f->torso_ramp = 0.05f * sc;
@@ -203,7 +204,9 @@ static void torso_section(const body_field *f, float y, float *a, float *b, floa
 /* Elliptical loft cut by two planes; the rims are rounded by offsetting inward and back out. */
 static float torso_dist(const body_field *f, const float p[3])
 {
-    float a, b, z, r = f->torso_round;
+    /* Either rim's radius applies only near its own cut, so switching halfway is seamless. */
+    float mid = 0.5f * (f->torso_lo + f->torso_hi);
+    float a, b, z, r = p[1] > mid ? f->torso_round_top : f->torso_round;
     torso_section(f, p[1], &a, &b, &z);
     float de = ellipse_dist(p[0], p[2] - z, a, b) + r;
     float dc = fmaxf(f->torso_lo - p[1], p[1] - f->torso_hi) + r;
