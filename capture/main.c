@@ -88,6 +88,11 @@ static int parse(int argc, char **argv, options *o)
             return -1;
         }
     }
+    if (o->run.record_dir && o->run.uri && !strcmp(o->run.record_dir, o->run.uri)) {
+        fprintf(stderr, "tryon-capture: --record %s would overwrite the recording it replays\n",
+                o->run.record_dir);
+        return -1;
+    }
     if (!cap_source_find(o->run.source)) {
         fprintf(stderr, "tryon-capture: unknown source '%s' (freenect or openni2)\n",
                 o->run.source);

@@ -24,6 +24,9 @@ typedef struct run_state {
     int lag_cap;
     char channel[BUS_CHANNEL_MAX];
     float c2w[16];
+    int frames;              /* published so far */
+    int64_t t_first, t_last; /* monotonic us: first fetch, last publish */
+    int64_t first_utime;     /* wall us of the first frame, for --record times */
 } run_state;
 
 static int cmp_float(const void *a, const void *b)
@@ -151,6 +154,49 @@ static float ms_between(int64_t a_us, int64_t b_us)
     return (float)((b_us - a_us) / 1000.0);
 }
 
+/* One frame: fetch, wait for its due time, stamp, publish, record. A frame skipped (live camera
+ * in FPS mode) or interrupted by a stop while waiting is not counted. */
+static cap_error run_frame(run_state *r, const cap_run_desc *d, cap_pacer *pacer,
+                           volatile sig_atomic_t *stop, char *err, size_t errlen)
+{
+    cap_frame f;
+    int64_t t_fetch = bus_now_mono_us();
+    cap_error e = cap_source_next(r->src, &f, err, errlen);
+    if (e != CAP_OK)
+        return e;
+    int64_t t_fetched = bus_now_mono_us();
+    int skip = 0;
+    int64_t due = cap_pacer_due(pacer, f.replay_time_s, &skip);
+    if (skip)
+        return CAP_OK;
+    if (r->frames == 0) {
+        r->t_first = t_fetch;
+        r->first_utime = f.utime_capture;
+    }
+    cap_sleep_until(due, stop);
+    if (*stop)
+        return CAP_OK;
+    if (f.replay_time_s >= 0.0)
+        f.utime_capture = bus_now_wall_us(); /* the replayed camera "delivers" it now */
+    int64_t t0 = bus_now_mono_us();
+    bus_timing timing;
+    bus_timing_begin(&timing, "capture", f.seq, f.utime_capture, f.utime_capture);
+    e = publish(r, d->lcm, &f, d->source, err, errlen);
+    int64_t t1 = bus_now_mono_us();
+    if (e == CAP_OK && r->writer)
+        e = run_record(r, &f, r->first_utime, err, errlen);
+    if (e != CAP_OK)
+        return e;
+    bus_timing_add(&timing, "fetch", ms_between(t_fetch, t_fetched));
+    bus_timing_add(&timing, "publish", ms_between(t0, t1));
+    bus_timing_publish(d->lcm, &timing);
+    if (r->frames < r->lag_cap)
+        r->lag_ms[r->frames] = ms_between(due, t1);
+    r->t_last = bus_now_mono_us();
+    r->frames++;
+    return CAP_OK;
+}
+
 cap_error cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_stats *stats,
                   char *err, size_t errlen)
 {
@@ -159,51 +205,16 @@ cap_error cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_st
     cap_error e = run_setup(&r, d, err, errlen);
     cap_pacer pacer;
     cap_pacer_init(&pacer, d->rate);
-    int64_t t_first = 0, t_last = 0, first_utime = 0;
     /* A recorded frame is fetched (read, converted) first, then waits for its due time, is
      * stamped and published, like a camera that delivers at its frame time. The lag reported is
      * due time to publish done; at --rate max the due time is when the fetch finished. */
-    while (e == CAP_OK && !*stop && (d->frames <= 0 || stats->frames < d->frames)) {
-        cap_frame f;
-        int64_t t_fetch = bus_now_mono_us();
-        e = cap_source_next(r.src, &f, err, errlen);
-        if (e != CAP_OK)
-            break;
-        int64_t t_fetched = bus_now_mono_us();
-        int skip = 0;
-        int64_t due = cap_pacer_due(&pacer, f.replay_time_s, &skip);
-        if (skip)
-            continue;
-        if (stats->frames == 0) {
-            t_first = t_fetch;
-            first_utime = f.utime_capture;
-        }
-        cap_sleep_until(due, stop);
-        if (*stop)
-            break;
-        if (f.replay_time_s >= 0.0 && due > t_fetch)
-            f.utime_capture = bus_now_wall_us(); /* the replayed camera "delivers" it now */
-        int64_t t0 = bus_now_mono_us();
-        bus_timing timing;
-        bus_timing_begin(&timing, "capture", f.seq, f.utime_capture, f.utime_capture);
-        e = publish(&r, d->lcm, &f, d->source, err, errlen);
-        int64_t t1 = bus_now_mono_us();
-        if (e == CAP_OK && r.writer)
-            e = run_record(&r, &f, first_utime, err, errlen);
-        if (e != CAP_OK)
-            break;
-        bus_timing_add(&timing, "fetch", ms_between(t_fetch, t_fetched));
-        bus_timing_add(&timing, "publish", ms_between(t0, t1));
-        bus_timing_publish(d->lcm, &timing);
-        if (stats->frames < r.lag_cap)
-            r.lag_ms[stats->frames] = ms_between(due, t1);
-        t_last = bus_now_mono_us();
-        stats->frames++;
-    }
+    while (e == CAP_OK && !*stop && (d->frames <= 0 || r.frames < d->frames))
+        e = run_frame(&r, d, &pacer, stop, err, errlen);
     if (e == CAP_END)
         e = CAP_OK;
-    int n = stats->frames < r.lag_cap ? stats->frames : r.lag_cap;
-    stats->seconds = stats->frames ? (t_last - t_first) * 1e-6 : 0.0;
+    int n = r.frames < r.lag_cap ? r.frames : r.lag_cap;
+    stats->frames = r.frames;
+    stats->seconds = r.frames ? (r.t_last - r.t_first) * 1e-6 : 0.0;
     stats->lag_p50_ms = percentile(r.lag_ms, n, 0.5);
     stats->lag_p95_ms = percentile(r.lag_ms, n, 0.95);
     stats->lag_max_ms = percentile(r.lag_ms, n, 1.0);
