@@ -50,6 +50,37 @@ static int find_root(int *p, int x)
     return x;
 }
 
+/* No sliver: area and every angle above the minimum. */
+static void check_triangle_shape(const float *v, const int32_t *tr, int i)
+{
+    const float *p0 = v + (size_t)tr[0] * 3, *p1 = v + (size_t)tr[1] * 3;
+    const float *p2 = v + (size_t)tr[2] * 3;
+    double u[3], w[3], c[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = p1[k] - p0[k];
+        w[k] = p2[k] - p0[k];
+    }
+    c[0] = u[1] * w[2] - u[2] * w[1];
+    c[1] = u[2] * w[0] - u[0] * w[2];
+    c[2] = u[0] * w[1] - u[1] * w[0];
+    double area = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (area < MIN_TRIANGLE_AREA)
+        fail_msg("triangle %d has area %g m^2", i, area);
+    const float *p[3] = {p0, p1, p2};
+    for (int k = 0; k < 3; ++k) {
+        double a[3], b[3];
+        for (int c2 = 0; c2 < 3; ++c2) {
+            a[c2] = (double)p[(k + 1) % 3][c2] - p[k][c2];
+            b[c2] = (double)p[(k + 2) % 3][c2] - p[k][c2];
+        }
+        double cosang = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) /
+                        sqrt((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) *
+                             (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
+        if (acos(fmin(1.0, fmax(-1.0, cosang))) * 180.0 / 3.14159265358979 < MIN_TRIANGLE_ANGLE_DEG)
+            fail_msg("triangle %d has an angle under %.0f degrees", i, MIN_TRIANGLE_ANGLE_DEG);
+    }
+}
+
 /* Every directed edge once and its reverse once (manifold and consistently oriented), one
  * component, Euler characteristic 2, every vertex used, no sliver. */
 static void check_closed_manifold(const fit_model *m)
@@ -77,33 +108,7 @@ static void check_closed_manifold(const fit_model *m)
             if (ra != rb)
                 parent[ra] = rb;
         }
-        const float *p0 = v + (size_t)tr[0] * 3, *p1 = v + (size_t)tr[1] * 3;
-        const float *p2 = v + (size_t)tr[2] * 3;
-        double u[3], w[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-            u[k] = p1[k] - p0[k];
-            w[k] = p2[k] - p0[k];
-        }
-        c[0] = u[1] * w[2] - u[2] * w[1];
-        c[1] = u[2] * w[0] - u[0] * w[2];
-        c[2] = u[0] * w[1] - u[1] * w[0];
-        double area = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        if (area < MIN_TRIANGLE_AREA)
-            fail_msg("triangle %d has area %g m^2", i, area);
-        const float *p[3] = {p0, p1, p2};
-        for (int k = 0; k < 3; ++k) {
-            double a[3], b[3];
-            for (int c2 = 0; c2 < 3; ++c2) {
-                a[c2] = (double)p[(k + 1) % 3][c2] - p[k][c2];
-                b[c2] = (double)p[(k + 2) % 3][c2] - p[k][c2];
-            }
-            double cosang = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) /
-                            sqrt((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) *
-                                 (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
-            if (acos(fmin(1.0, fmax(-1.0, cosang))) * 180.0 / 3.14159265358979 <
-                MIN_TRIANGLE_ANGLE_DEG)
-                fail_msg("triangle %d has an angle under %.0f degrees", i, MIN_TRIANGLE_ANGLE_DEG);
-        }
+        check_triangle_shape(v, tr, i);
     }
     qsort(e, (size_t)nt * 3, sizeof(uint64_t), cmp_u64);
     for (int i = 0; i < nt * 3; ++i) {
@@ -192,68 +197,104 @@ static int triangles_intersect(const float *v, const int32_t *t1, const int32_t 
     return 0;
 }
 
-/* Uniform grid of triangle bounding boxes; pairs are tested only within shared cells. */
-static void test_rest_mesh_has_no_self_intersection(void **state)
+/* Cell range a triangle's bounding box covers. */
+static void triangle_cells(const float *v, const int32_t *tr, const float *lo, float cell,
+                           int c0[3], int c1[3])
 {
-    (void)state;
-    int nt = fit_model_triangle_count(model), nv = fit_model_vertex_count(model);
-    const int32_t *t = fit_model_triangles(model);
-    const float *v = fit_model_rest_vertices(model);
+    for (int k = 0; k < 3; ++k) {
+        float mn = 1e9f, mx = -1e9f;
+        for (int e = 0; e < 3; ++e) {
+            mn = fminf(mn, v[(size_t)tr[e] * 3 + k]);
+            mx = fmaxf(mx, v[(size_t)tr[e] * 3 + k]);
+        }
+        c0[k] = (int)((mn - lo[k]) / cell);
+        c1[k] = (int)((mx - lo[k]) / cell);
+    }
+}
+
+typedef struct tri_grid {
+    int dim[3], ncell;
+    int *end; /* end[c]: one past cell c's last entry in lst; cell c starts at end[c - 1] */
+    int *lst;
+} tri_grid;
+
+/* Uniform grid of triangle bounding boxes, two passes: count, then fill. */
+static void tri_grid_build(const float *v, int nv, const int32_t *t, int nt, float cell,
+                           tri_grid *g)
+{
     float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
     for (int i = 0; i < nv * 3; ++i) {
         lo[i % 3] = fminf(lo[i % 3], v[i]);
         hi[i % 3] = fmaxf(hi[i % 3], v[i]);
     }
-    const float cell = 0.04f;
-    int dim[3];
     for (int k = 0; k < 3; ++k)
-        dim[k] = (int)((hi[k] - lo[k]) / cell) + 1;
-    int ncell = dim[0] * dim[1] * dim[2];
-    int *start = calloc((size_t)ncell + 1, sizeof(int));
-    assert_non_null(start);
-    int *lst = NULL, total = 0;
+        g->dim[k] = (int)((hi[k] - lo[k]) / cell) + 1;
+    g->ncell = g->dim[0] * g->dim[1] * g->dim[2];
+    g->end = calloc((size_t)g->ncell + 1, sizeof(int));
+    g->lst = NULL;
+    assert_non_null(g->end);
     for (int pass = 0; pass < 2; ++pass) {
         for (int i = 0; i < nt; ++i) {
             int c0[3], c1[3];
-            for (int k = 0; k < 3; ++k) {
-                float mn = 1e9f, mx = -1e9f;
-                for (int e = 0; e < 3; ++e) {
-                    mn = fminf(mn, v[(size_t)t[i * 3 + e] * 3 + k]);
-                    mx = fmaxf(mx, v[(size_t)t[i * 3 + e] * 3 + k]);
-                }
-                c0[k] = (int)((mn - lo[k]) / cell);
-                c1[k] = (int)((mx - lo[k]) / cell);
-            }
+            triangle_cells(v, t + (size_t)i * 3, lo, cell, c0, c1);
             for (int z = c0[2]; z <= c1[2]; ++z)
                 for (int y = c0[1]; y <= c1[1]; ++y)
                     for (int x = c0[0]; x <= c1[0]; ++x) {
-                        int c = (z * dim[1] + y) * dim[0] + x;
+                        int c = (z * g->dim[1] + y) * g->dim[0] + x;
                         if (pass == 0)
-                            start[c + 1]++;
+                            g->end[c + 1]++;
                         else
-                            lst[start[c]++] = i;
+                            g->lst[g->end[c]++] = i;
                     }
         }
         if (pass == 0) {
-            for (int c = 0; c < ncell; ++c)
-                start[c + 1] += start[c];
-            total = start[ncell];
-            lst = malloc((size_t)total * sizeof(int));
-            assert_non_null(lst);
+            for (int c = 0; c < g->ncell; ++c)
+                g->end[c + 1] += g->end[c];
+            g->lst = malloc((size_t)g->end[g->ncell] * sizeof(int) + 1);
+            assert_non_null(g->lst);
         }
     }
-    /* start[c] now holds the end of cell c; the cell begins at the previous end. */
+}
+
+/* Intersecting triangle pairs; pairs are tested only within shared cells of the grid. */
+static int count_self_intersections(const float *v)
+{
+    int nt = fit_model_triangle_count(model), nv = fit_model_vertex_count(model);
+    const int32_t *t = fit_model_triangles(model);
+    tri_grid g;
+    tri_grid_build(v, nv, t, nt, 0.04f, &g);
     int hits = 0, begin = 0;
-    for (int c = 0; c < ncell; ++c) {
-        int end = start[c];
+    for (int c = 0; c < g.ncell; ++c) {
+        int end = g.end[c];
         for (int i = begin; i < end; ++i)
             for (int k = i + 1; k < end; ++k)
-                hits += triangles_intersect(v, t + (size_t)lst[i] * 3, t + (size_t)lst[k] * 3);
+                hits += triangles_intersect(v, t + (size_t)g.lst[i] * 3, t + (size_t)g.lst[k] * 3);
         begin = end;
     }
-    free(lst);
-    free(start);
-    assert_int_equal(hits, 0);
+    free(g.lst);
+    free(g.end);
+    return hits;
+}
+
+static void test_rest_mesh_has_no_self_intersection(void **state)
+{
+    (void)state;
+    assert_int_equal(count_self_intersections(fit_model_rest_vertices(model)), 0);
+}
+
+/* The checker itself: an arm swung into the side of the body must be caught. */
+static void test_self_intersection_check_catches_arm_in_body(void **state)
+{
+    (void)state;
+    fit_pose p;
+    memset(&p, 0, sizeof p);
+    const float into[3] = {0.0f, 0.0f, -0.9f};
+    fit_joint_from_anatomical(FIT_L_SHOULDER, into, p.rot[FIT_L_SHOULDER]);
+    float *v = malloc((size_t)fit_model_vertex_count(model) * 3 * sizeof(float));
+    assert_non_null(v);
+    assert_int_equal(fit_model_pose(model, &p, v, NULL), 0);
+    assert_true(count_self_intersections(v) > 0);
+    free(v);
 }
 
 static void test_target_vertices_within_15_percent(void **state)
@@ -323,6 +364,7 @@ int main(void)
         cmocka_unit_test(test_mesh_is_closed_manifold_with_euler_characteristic_2),
         cmocka_unit_test(test_triangles_face_outward),
         cmocka_unit_test(test_rest_mesh_has_no_self_intersection),
+        cmocka_unit_test(test_self_intersection_check_catches_arm_in_body),
         cmocka_unit_test(test_target_vertices_within_15_percent),
         cmocka_unit_test(test_create_rejects_bad_input_with_a_reason),
         cmocka_unit_test(test_write_obj_round_trips_counts),
