@@ -76,6 +76,7 @@ harness *h_create(int port)
     bus_channel(BUS_CHANNEL_TIMING, ch, sizeof ch);
     h->timing_sub = bus_subscribe(h->lcm, ch, BUS_TIMING, on_timing, h);
     h->child = -1;
+    h->logger = -1;
     h->err_fd = -1;
     return h;
 }
@@ -90,10 +91,12 @@ static void rm_rf(const char *dir)
 
 void h_destroy(harness *h)
 {
-    if (h->child > 0) {
-        kill(h->child, SIGKILL);
-        waitpid(h->child, NULL, 0);
-    }
+    pid_t kids[2] = {h->child, h->logger};
+    for (int i = 0; i < 2; i++)
+        if (kids[i] > 0) {
+            kill(kids[i], SIGKILL);
+            waitpid(kids[i], NULL, 0);
+        }
     if (h->err_fd >= 0)
         close(h->err_fd);
     bus_unsubscribe(h->lcm, h->depth_sub);

@@ -30,7 +30,8 @@ typedef struct harness {
     h_depth depth[H_MAX_FRAMES];
     int32_t timing_seq[H_MAX_FRAMES];
     pid_t child;
-    int err_fd; /* the child's stderr */
+    pid_t logger; /* an lcm-logger a test started, killed in h_destroy */
+    int err_fd;   /* the child's stderr */
     char err_text[8192];
 } harness;
 
