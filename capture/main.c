@@ -125,6 +125,17 @@ static int reexec_with_fakenect(char **argv, const char *dump)
     return 1;
 }
 
+/* freenect URIs are device indices; anything else names a dump (which may be missing). */
+static int uri_names_dump(const char *uri)
+{
+    if (!uri || !*uri)
+        return 0;
+    for (const char *c = uri; *c; c++)
+        if (*c < '0' || *c > '9')
+            return 1;
+    return cap_uri_is_dump(uri);
+}
+
 int main(int argc, char **argv)
 {
     options o = {0};
@@ -133,7 +144,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *staged = getenv(CAP_ENV_STAGED);
-    if (!strcmp(o.run.source, "freenect") && cap_uri_is_dump(o.run.uri) && !staged)
+    if (!strcmp(o.run.source, "freenect") && uri_names_dump(o.run.uri) && !staged)
         return reexec_with_fakenect(argv, o.run.uri);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);

@@ -102,6 +102,11 @@ static void test_damaged_recordings_are_rejected_by_name(void **state)
     snprintf(path, sizeof path, "%s/INDEX.txt", h->dir);
     assert_int_equal(unlink(path), 0);
     expect_rejected(h, "INDEX.txt", "REC_ERR_NO_INDEX");
+    /* No directory at all. */
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", h->dir);
+    assert_int_equal(system(cmd), 0);
+    expect_rejected(h, h->dir, "REC_ERR_NO_DIR");
     rec_index_free(&idx);
     assert_int_equal(dir_entries(tmpdir), 0);
 }
