@@ -1,9 +1,6 @@
 /* Seed 000 section 2.1, Eq. 1-2: feature points, twin of sim/feature_points.c (read its header
  * comment for the swept-prism test). One work-item per cloth point. */
 
-#define FP_MAX_CANDIDATES 32
-#define FP_BARY_SLACK     1e-4f
-
 int sim_in_swept_prism(__global const float4 *v_prev, __global const float4 *v,
                        __global const int4 *tris, __global const float4 *n_prev,
                        __global const float4 *n_k, int t, float4 p, float h)
@@ -26,14 +23,16 @@ int sim_in_swept_prism(__global const float4 *v_prev, __global const float4 *v,
     cc.y = v_prev[f.z].y + ts * (v[f.z].y - v_prev[f.z].y);
     cc.z = v_prev[f.z].z + ts * (v[f.z].z - v_prev[f.z].z);
     a.w = b.w = cc.w = 0.0f;
+    float4 q, bary;
+    sim_closest_on_triangle(p, a, b, cc, &q, &bary);
     float4 nr = sim_cross3(sim_sub3(b, a), sim_sub3(cc, a));
     float nn = sim_dot3(nr, nr);
     if (!(nn > 0.0f))
         return 0;
-    float4 pa = sim_sub3(a, p), pb = sim_sub3(b, p), pc = sim_sub3(cc, p);
-    float u = sim_dot3(sim_cross3(pb, pc), nr) / nn;
-    float w = sim_dot3(sim_cross3(pc, pa), nr) / nn;
-    return u >= -FP_BARY_SLACK && w >= -FP_BARY_SLACK && 1.0f - u - w >= -FP_BARY_SLACK;
+    float4 r = sim_sub3(p, q);
+    float rn = sim_dot3(r, nr);
+    float lateral2 = sim_dot3(r, r) - rn * rn / nn;
+    return lateral2 <= h * h;
 }
 
 __kernel void sim_feature_points(__global float4 *x, __global float4 *x_prev, int begin, int end,
@@ -51,8 +50,10 @@ __kernel void sim_feature_points(__global float4 *x, __global float4 *x_prev, in
     float4 p = x[i];
     if (p.w == 0.0f || nleaves < 1)
         return;
-    /* D-BVH: the swept boxes containing p, in the order sim_bvh_containing finds them. */
-    int cand[FP_MAX_CANDIDATES], nc = 0;
+    /* D-BVH: every swept box holding p, its prism tested at once (no cap on candidates);
+       distance-based selection (seed 000 Figure 2): nearest to p on frame k-1. */
+    int best = -1;
+    float best_d2 = INFINITY;
     int stack[BVH_STACK], top = 0;
     stack[top++] = 0;
     while (top > 0) {
@@ -60,21 +61,14 @@ __kernel void sim_feature_points(__global float4 *x, __global float4 *x_prev, in
         if (!sim_box_contains(slo[node], shi[node], p))
             continue;
         int leaf = sim_bvh_leaf_of(nleaves, node);
-        if (leaf >= 0) {
-            if (nc < FP_MAX_CANDIDATES)
-                cand[nc++] = order[leaf];
+        if (leaf < 0) {
+            if (top + 2 <= BVH_STACK) {
+                stack[top++] = child[node].y;
+                stack[top++] = child[node].x;
+            }
             continue;
         }
-        if (top + 2 > BVH_STACK)
-            continue;
-        stack[top++] = child[node].y;
-        stack[top++] = child[node].x;
-    }
-    /* Distance-based selection (seed 000 Figure 2): nearest to p on frame k-1. */
-    int best = -1;
-    float best_d2 = INFINITY;
-    for (int j = 0; j < nc; j++) {
-        int t = cand[j];
+        int t = order[leaf];
         if (!sim_in_swept_prism(v_prev, v, tris, n_prev, n_k, t, p, h))
             continue;
         int4 f = tris[t];

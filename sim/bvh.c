@@ -298,11 +298,16 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
             memcpy(bary, cb, sizeof cb);
         }
     }
+    /* Nodes are pushed with their box distance, so a pop compares without recomputing, and a
+       child already farther than the best is never pushed. */
     int stack[BVH_STACK], top = 0;
-    stack[top++] = 0;
+    float sd[BVH_STACK];
+    stack[top] = 0;
+    sd[top++] = box_dist2(b->lo[0], b->hi[0], p);
     while (top > 0) {
-        int node = stack[--top];
-        if (box_dist2(b->lo[node], b->hi[node], p) > best_d2)
+        top--;
+        int node = stack[top];
+        if (sd[top] > best_d2)
             continue;
         int leaf = leaf_of(b, node);
         if (leaf >= 0) {
@@ -324,12 +329,15 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
         if (top + 2 > BVH_STACK)
             continue; /* cannot happen for trees built here (see BVH_STACK) */
         /* The nearer child is popped first so best_d2 shrinks early. */
-        if (dl <= dr) {
-            stack[top++] = r;
-            stack[top++] = l;
-        } else {
-            stack[top++] = l;
-            stack[top++] = r;
+        int near = dl <= dr ? l : r, far = dl <= dr ? r : l;
+        float dn = dl <= dr ? dl : dr, df = dl <= dr ? dr : dl;
+        if (df <= best_d2) {
+            stack[top] = far;
+            sd[top++] = df;
+        }
+        if (dn <= best_d2) {
+            stack[top] = near;
+            sd[top++] = dn;
         }
     }
     if (best >= 0 && dist_m)

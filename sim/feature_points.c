@@ -8,20 +8,17 @@
  *   - it is inside the offset surface at k: d1 = n^k.(p - v0^k) < thickness,
  *   - the triangle came towards it (d1 < d0; a point resting on a body part sliding past is left
  *     to contacts and friction),
- *   - laterally, the projection of p onto the triangle interpolated at the moment t* its offset
- *     surface crossed p (linear in the plane distances) lies inside it.
+ *   - laterally, the projection of p onto the plane of the triangle interpolated at the moment t*
+ *     its offset surface crossed p (linear in the plane distances) lies within thickness of it
+ *     (the offset surface is rounded at convex edges and vertices, as a Minkowski sum is).
  * Several triangles may claim p (seed 000 Figure 2): the one nearest to p at k-1 wins. */
 #include <math.h>
 #include <string.h>
 
 #include "collide.h"
 
-/* Candidates per point from the D-BVH; a point in more swept boxes keeps the first ones (the
-   D-BVH leaves of a body frame overlap a point a handful of times at most). */
-#define FP_MAX_CANDIDATES 32
-/* Barycentric slack on the lateral test so a point on a shared edge is claimed by both sides
-   despite rounding; distance-based selection then picks one. */
-#define FP_BARY_SLACK 1e-4f
+/* Traversal stack: the LBVH depth bound of sim/bvh.c. */
+#define FP_STACK 96
 
 static void sub3(const float *a, const float *b, float *o)
 {
@@ -61,22 +58,21 @@ static int in_swept_prism(const sim_collider *c, int t, const float p[3])
         b[k] = c->v_prev[f[1]][k] + ts * (c->v[f[1]][k] - c->v_prev[f[1]][k]);
         cc[k] = c->v_prev[f[2]][k] + ts * (c->v[f[2]][k] - c->v_prev[f[2]][k]);
     }
-    /* Barycentrics of p's projection onto the plane of (a, b, cc): signed sub-areas. */
-    float ab[3], ac[3], nr[3], pa[3], pb[3], pc[3], w[3];
+    /* Laterally: p's projection onto the plane of T(t*) lies within thickness of the triangle.
+       The slack covers the rounded offset surface at convex edges and vertices, where a point
+       above a vertex lies outside every face's own prism. */
+    float q[3], bary[3], ab[3], ac[3], nr[3];
+    sim_closest_on_triangle(p, a, b, cc, q, bary);
     sub3(b, a, ab);
     sub3(cc, a, ac);
     cross3(ab, ac, nr);
     float nn = dot3(nr, nr);
     if (!(nn > 0.0f))
         return 0;
-    sub3(a, p, pa);
-    sub3(b, p, pb);
-    sub3(cc, p, pc);
-    cross3(pb, pc, w);
-    float u = dot3(w, nr) / nn;
-    cross3(pc, pa, w);
-    float v = dot3(w, nr) / nn;
-    return u >= -FP_BARY_SLACK && v >= -FP_BARY_SLACK && 1.0f - u - v >= -FP_BARY_SLACK;
+    sub3(p, q, r);
+    float rn = dot3(r, nr);
+    float lateral2 = dot3(r, r) - rn * rn / nn;
+    return lateral2 <= h * h;
 }
 
 /* Seed 000 Eq. 1-2 for point p and its triangle t: new position in out. */
@@ -96,14 +92,32 @@ static void carry(const sim_collider *c, int t, const float p[3], float out[3])
                  off * c->n[t][k];
 }
 
-/* The candidate nearest to p on the previous frame (ties: lower triangle index); -1 if none is
-   a feature pair. */
-static int choose_triangle(const sim_collider *c, const float p[3], const int32_t *cand, int nc)
+/* D-BVH traversal: every triangle whose swept box holds p and whose swept prism holds p is a
+   feature pair; the one nearest to p on frame k-1 wins (ties: lower triangle index). No cap on
+   the candidates: a fast limb's swept boxes are several triangles wide, so a point sits in dozens
+   of them. -1 when none. */
+static int choose_triangle(const sim_collider *c, const float p[3])
 {
+    const sim_bvh *b = &c->bvh;
     int best = -1;
     float best_d2 = INFINITY;
-    for (int j = 0; j < nc; j++) {
-        int t = cand[j];
+    int stack[FP_STACK], top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        const float *lo = b->slo[node], *hi = b->shi[node];
+        if (!(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] &&
+              p[2] <= hi[2]))
+            continue;
+        int leaf = b->n == 1 ? 0 : (node >= b->n - 1 ? node - (b->n - 1) : -1);
+        if (leaf < 0) {
+            if (top + 2 <= FP_STACK) {
+                stack[top++] = b->child[node][1];
+                stack[top++] = b->child[node][0];
+            }
+            continue;
+        }
+        int t = b->order[leaf];
         if (!in_swept_prism(c, t, p))
             continue;
         const int32_t *f = c->tris[t];
@@ -129,10 +143,7 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
     for (int i = begin; i < end; i++) {
         if (x[i][3] == 0.0f)
             continue; /* pinned: moved only by its owner */
-        int32_t cand[FP_MAX_CANDIDATES];
-        int nc = sim_bvh_containing(&c->bvh, x[i], 1, cand, FP_MAX_CANDIDATES);
-        nc = nc < FP_MAX_CANDIDATES ? nc : FP_MAX_CANDIDATES;
-        int t = nc > 0 ? choose_triangle(c, x[i], cand, nc) : -1;
+        int t = choose_triangle(c, x[i]);
         if (t < 0)
             continue;
         float p[3];

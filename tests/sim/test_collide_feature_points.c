@@ -171,12 +171,35 @@ static void test_feature_point_needs_two_frames_of_one_topology(void **state)
     sim_collider_destroy(c);
 }
 
+/* A point above a convex ridge lies outside both faces' own prisms (the offset surface is
+   rounded there); the ridge rising through it must still carry it. */
+static void test_feature_point_above_convex_ridge_is_carried(void **state)
+{
+    (void)state;
+    float v0[12] = {0, 0, 0.1f, 0, 0, -0.1f, -0.1f, -0.05f, 0, 0.1f, -0.05f, 0};
+    float v1[12];
+    memcpy(v1, v0, sizeof v0);
+    for (int i = 0; i < 4; i++)
+        v1[3 * i + 1] += 0.05f;
+    int32_t t[6] = {0, 1, 2, 1, 0, 3};
+    sim_collider *c = make();
+    assert_int_equal(sim_collider_set_body(c, v0, 4, t, 2), 0);
+    assert_int_equal(sim_collider_set_body(c, v1, 4, t, 2), 0);
+    float x[1][4] = {{0.0f, 0.006f, 0.0f, 1.0f}}, xp[1][4] = {{0.0f, 0.006f, 0.0f, 1.0f}};
+    assert_int_equal(sim_collider_feature_points(c, x, xp, 0, 1), 1);
+    /* Above the risen ridge (y = 0.05) by at least the thickness. */
+    assert_true(x[0][1] >= 0.05f + THICK - POS_TOL_M);
+    assert_true(fabsf(x[0][0]) < 0.01f);
+    sim_collider_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_feature_point_follows_moving_triangle),
         cmocka_unit_test(test_feature_point_ignores_points_not_swept),
         cmocka_unit_test(test_feature_point_nearest_of_several_triangles_wins),
+        cmocka_unit_test(test_feature_point_above_convex_ridge_is_carried),
         cmocka_unit_test(test_feature_point_needs_two_frames_of_one_topology),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
