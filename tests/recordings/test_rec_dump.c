@@ -240,6 +240,48 @@ static void test_garbage_line_and_empty_index_are_named(void **state)
     assert_int_equal(rec_validate(f->dir, NULL, &why), REC_ERR_EMPTY);
 }
 
+static void test_random_index_damage_never_crashes(void **state)
+{
+    fixture *f = *state;
+    char p[300], text[2048];
+    snprintf(p, sizeof p, "%s/INDEX.txt", f->dir);
+    FILE *fp = fopen(p, "rb");
+    size_t n = fread(text, 1, sizeof text - 1, fp);
+    fclose(fp);
+    rec_rng rng;
+    rec_rng_seed(&rng, 42, 0);
+    /* Flip, delete or insert bytes of INDEX.txt; the validator must answer, not crash. */
+    for (int round = 0; round < 200; round++) {
+        char bad[2100];
+        memcpy(bad, text, n);
+        size_t len = n;
+        int edits = 1 + (int)(rec_rng_u64(&rng) % 4);
+        for (int e = 0; e < edits && len > 0; e++) {
+            size_t at = (size_t)(rec_rng_u64(&rng) % len);
+            int kind = (int)(rec_rng_u64(&rng) % 3);
+            if (kind == 0)
+                bad[at] = (char)(rec_rng_u64(&rng) & 0xff);
+            else if (kind == 1)
+                memmove(bad + at, bad + at + 1, --len - at);
+            else if (len < sizeof bad - 1) {
+                memmove(bad + at + 1, bad + at, len++ - at);
+                bad[at] = "-.\n0d/"[rec_rng_u64(&rng) % 6];
+            }
+        }
+        fp = fopen(p, "wb");
+        fwrite(bad, 1, len, fp);
+        fclose(fp);
+        rec_report why;
+        int frames = -1;
+        rec_error err = rec_validate(f->dir, &frames, &why);
+        assert_true(err < REC_ERROR_COUNT);
+        if (err == REC_OK)
+            assert_true(frames >= 1 && frames <= FRAMES);
+        else
+            assert_true(why.message[0] != 0);
+    }
+}
+
 static void test_error_names_come_from_one_list(void **state)
 {
     (void)state;
@@ -264,6 +306,7 @@ int main(void)
         T(test_time_going_backwards_is_named),
         T(test_timestamp_going_backwards_is_named),
         T(test_garbage_line_and_empty_index_are_named),
+        T(test_random_index_damage_never_crashes),
         cmocka_unit_test(test_error_names_come_from_one_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
