@@ -72,20 +72,28 @@ static void turn(double t, fit_pose *p)
     set_anat(p, FIT_R_ELBOW, -0.2, 0.0, 0.0);
 }
 
-/* Legs and arms of a gait cycle at phase ph, scaled by amplitude env (0 = standing). */
-static void gait(double ph, double env, double hip_amp, fit_pose *p)
+/* Legs and arms of a gait cycle at phase ph, scaled by amplitude env (0 = standing). Returns
+ * how far the pelvis must drop so the lower foot stays on the floor. */
+static double gait(double ph, double env, double hip_amp, fit_pose *p)
 {
+    /* Thigh and shin of an average adult, m (motions do not know the shape). */
+    const double thigh = 0.43, shin = 0.43;
+    double reach = 0.0;
     for (int side = 0; side < 2; ++side) {
         double s = side == 0 ? sin(ph) : -sin(ph), c = side == 0 ? cos(ph) : -cos(ph);
         fit_joint hip = side == 0 ? FIT_L_HIP : FIT_R_HIP;
         fit_joint sh = side == 0 ? FIT_L_SHOULDER : FIT_R_SHOULDER;
-        /* Negative hip x swings the leg forward; the knee bends while it swings through. */
-        set_anat(p, hip, -hip_amp * env * s, 0.0, 0.0);
-        set_anat(p, (fit_joint)(hip + 1), 0.7 * env * pos(-c), 0.0, 0.0);
-        set_anat(p, (fit_joint)(hip + 2), 0.2 * env * s, 0.0, 0.0);
+        /* Negative hip x swings the leg forward; the knee bends while it swings through (c > 0);
+         * the ankle keeps the sole level (the angles of a planar chain add up). */
+        double h = -hip_amp * env * s, k = 0.6 * env * pos(c) * pos(c);
+        set_anat(p, hip, h, 0.0, 0.0);
+        set_anat(p, (fit_joint)(hip + 1), k, 0.0, 0.0);
+        set_anat(p, (fit_joint)(hip + 2), fmax(-0.58, -(h + k)), 0.0, 0.0);
         set_anat(p, sh, 0.35 * env * s, 0.0, 0.0); /* arms swing against the legs */
         set_anat(p, (fit_joint)(sh + 1), -0.3 * env, 0.0, 0.0);
+        reach = fmax(reach, thigh * cos(h) + shin * cos(h + k));
     }
+    return thigh + shin - reach;
 }
 
 static void walk(double t, fit_pose *p)
@@ -98,6 +106,7 @@ static void walk(double t, fit_pose *p)
         fit_joint sh = side == 0 ? FIT_L_SHOULDER : FIT_R_SHOULDER;
         set_anat(p, hip, -0.6 * lift, 0.0, 0.0);
         set_anat(p, (fit_joint)(hip + 1), 1.1 * lift, 0.0, 0.0);
+        set_anat(p, (fit_joint)(hip + 2), -0.5 * lift, 0.0, 0.0); /* sole level */
         set_anat(p, sh, 0.35 * (side == 0 ? sin(ph) : -sin(ph)), 0.0, 0.0);
         set_anat(p, (fit_joint)(sh + 1), -0.4, 0.0, 0.0);
     }
@@ -140,7 +149,7 @@ static void enter_leave(double t, fit_pose *p)
     }
     p->root[0] = (float)x;
     set_anat(p, FIT_PELVIS, 0.0, yaw, 0.0);
-    gait(ph, env, 0.4, p);
+    p->root[1] = (float)-gait(ph, env, 0.4, p);
 }
 
 void fit_motion_eval(fit_motion m, double t_s, fit_pose *out)

@@ -310,6 +310,28 @@ static void test_motions_reach_their_extremes(void **state)
     assert_true(j[FIT_L_ANKLE * 3 + 1] > 0.15f);
 }
 
+/* Walking drops the pelvis so the lower foot stays on the floor: no sinking, no floating
+ * (the average shape; other shapes are within a couple of centimetres). */
+static void test_feet_stay_on_the_floor_while_walking(void **state)
+{
+    (void)state;
+    const fit_motion ms[3] = {FIT_MOTION_WALK, FIT_MOTION_ENTER_LEAVE, FIT_MOTION_STILL};
+    for (int m = 0; m < 3; ++m) {
+        double d = fit_motion_duration(ms[m]);
+        for (int i = 0; i < 120; ++i) {
+            fit_pose p;
+            fit_motion_eval(ms[m], d * i / 120.0, &p);
+            assert_int_equal(fit_model_pose(model, &p, buf_a, NULL), 0);
+            float low = buf_a[1];
+            for (int k = 1; k < fit_model_vertex_count(model); ++k)
+                low = fminf(low, buf_a[k * 3 + 1]);
+            if (low < -0.01f || low > 0.02f)
+                fail_msg("%s at %.2f s: lowest point %.3f m", fit_motion_name(ms[m]), d * i / 120.0,
+                         low);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_pose_rejects_nan_and_null),
         cmocka_unit_test(test_motions_loop_and_have_names),
         cmocka_unit_test(test_motions_reach_their_extremes),
+        cmocka_unit_test(test_feet_stay_on_the_floor_while_walking),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
