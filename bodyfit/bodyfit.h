@@ -138,7 +138,12 @@ int fit_shape_validate(const fit_shape *s, char *err, size_t errlen);
 void fit_shape_param_range(int i, float *lo, float *hi);
 const char *fit_shape_param_name(int i);
 
-/* Joint limits: each rotation vector is expressed in the joint's anatomical frame (identity
+/* Pose conventions: root is added to the pelvis joint's rest position (zero = standing at the
+ * origin); rot[FIT_PELVIS] turns the whole body about the pelvis joint. About +x, a bone that
+ * points up tilts forward for positive angles, one that points down swings backward (so hip and
+ * shoulder flexion are negative, knee flexion positive); about +z the left limbs rise sideways.
+ *
+ * Joint limits: each rotation vector is expressed in the joint's anatomical frame (identity
  * except the arms, whose frame follows the A-pose arm: local -y along the arm, local x the
  * flexion hinge), then clamped per component. */
 void fit_joint_limits(fit_joint j, float lo[3], float hi[3]);
