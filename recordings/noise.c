@@ -10,6 +10,18 @@
 
 #include "recordings.h"
 
+/* Strict C11 has no M_PI. */
+#define HALF_PI 1.57079632679489661923
+
+static int valid(float z)
+{
+    return isfinite(z) && z > 0.0f;
+}
+
+/* Nguyen et al. 2012 measured up to about 70-80 degrees; past 85 the pattern is too stretched to
+ * match and the Kinect reports nothing. */
+#define MAX_ANGLE (85.0 / 90.0 * HALF_PI)
+
 static uint64_t splitmix64(uint64_t *x)
 {
     uint64_t z = (*x += 0x9e3779b97f4a7c15ull);
@@ -70,9 +82,44 @@ double rec_sigma_z(double z_m)
     return 0.0012 + 0.0019 * (z_m - 0.4) * (z_m - 0.4);
 }
 
-static int valid(float z)
+/* Nguyen et al. 2012 fit the extra noise of surfaces seen at angle theta (between the surface
+ * normal and the camera ray) as a term growing like theta^2 / (pi/2 - theta)^2. */
+double rec_sigma_z_angle(double z_m, double theta)
 {
-    return isfinite(z) && z > 0.0f;
+    double g = theta / (HALF_PI - theta);
+    return rec_sigma_z(z_m) + 0.0001 / sqrt(z_m) * g * g;
+}
+
+double rec_sigma_lateral_px(double theta)
+{
+    return 0.8 + 0.035 * theta / (HALF_PI - theta);
+}
+
+/* Angle between the surface normal (from the clean depth's neighbours) and the camera ray at
+ * pixel (u, v); -1 where the neighbourhood is not one continuous surface. */
+static double surface_angle(const float *z, int u, int v, float jump)
+{
+    if (u < 1 || v < 1 || u >= REC_WIDTH - 1 || v >= REC_HEIGHT - 1)
+        return -1.0;
+    const float *c = z + v * REC_WIDTH + u;
+    float l = c[-1], r = c[1], t = c[-REC_WIDTH], b = c[REC_WIDTH];
+    if (!valid(*c) || !valid(l) || !valid(r) || !valid(t) || !valid(b) || fabsf(r - *c) > jump ||
+        fabsf(*c - l) > jump || fabsf(b - *c) > jump || fabsf(*c - t) > jump)
+        return -1.0;
+    /* Back-projected neighbours: P = ((u - cx) z / fx, (v - cy) z / fy, z). */
+    double dx[3] = {((u + 1 - REC_CX) * r - (u - 1 - REC_CX) * l) / REC_FX,
+                    (v - REC_CY) * (r - l) / REC_FY, r - l};
+    double dy[3] = {(u - REC_CX) * (b - t) / REC_FX,
+                    ((v + 1 - REC_CY) * b - (v - 1 - REC_CY) * t) / REC_FY, b - t};
+    double n[3] = {dx[1] * dy[2] - dx[2] * dy[1], dx[2] * dy[0] - dx[0] * dy[2],
+                   dx[0] * dy[1] - dx[1] * dy[0]};
+    double ray[3] = {(u - REC_CX) / REC_FX, (v - REC_CY) / REC_FY, 1.0};
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double rr = sqrt(ray[0] * ray[0] + ray[1] * ray[1] + ray[2] * ray[2]);
+    if (nn <= 0.0)
+        return -1.0;
+    double cosang = fabs(n[0] * ray[0] + n[1] * ray[1] + n[2] * ray[2]) / (nn * rr);
+    return acos(fmin(1.0, cosang));
 }
 
 /* Marks (in mark[], as REC_RAW_NONE) the pixels of one row that the projector cannot see. The
@@ -150,11 +197,14 @@ void rec_noise_apply(const rec_noise_desc *d, int frame, const float *depth_m, f
     if (d->shadows)
         for (int v = 0; v < REC_HEIGHT; v++)
             shadow_row(depth_m + v * REC_WIDTH, raw_out + v * REC_WIDTH, jump);
-    /* 2. Lateral noise: each pixel reads the scene a little off its centre (sigma in px). */
+    /* 2. Lateral noise: each pixel reads the scene a little off its centre, more so on slanted
+     * surfaces (sigma in px). Beyond MAX_ANGLE the surface returns no pattern at all. */
     for (int v = 0; v < REC_HEIGHT; v++)
         for (int u = 0; u < REC_WIDTH; u++) {
-            int x = u + (int)lround(rec_rng_normal(&rng) * lateral);
-            int y = v + (int)lround(rec_rng_normal(&rng) * lateral);
+            double th = surface_angle(depth_m, u, v, jump);
+            double sl = th < 0.0 ? lateral : lateral * rec_sigma_lateral_px(th) / 0.8;
+            int x = u + (int)lround(rec_rng_normal(&rng) * sl);
+            int y = v + (int)lround(rec_rng_normal(&rng) * sl);
             x = x < 0 ? 0 : x >= REC_WIDTH ? REC_WIDTH - 1 : x;
             y = y < 0 ? 0 : y >= REC_HEIGHT ? REC_HEIGHT - 1 : y;
             scratch[v * REC_WIDTH + u] = depth_m[y * REC_WIDTH + x];
@@ -174,6 +224,12 @@ void rec_noise_apply(const rec_noise_desc *d, int frame, const float *depth_m, f
                 raw_out[i] = REC_RAW_NONE;
                 continue;
             }
-            raw_out[i] = rec_mm_to_raw(z + n * rec_sigma_z(z));
+            double th = surface_angle(depth_m, u, v, jump); /* clean geometry */
+            if (th > MAX_ANGLE) {
+                raw_out[i] = REC_RAW_NONE;
+                continue;
+            }
+            raw_out[i] =
+                rec_mm_to_raw(z + n * (th < 0.0 ? rec_sigma_z(z) : rec_sigma_z_angle(z, th)));
         }
 }

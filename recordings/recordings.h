@@ -140,8 +140,12 @@ typedef struct rec_noise_desc {
     int shadows;       /* 1 = projector shadows (default when enabled) */
 } rec_noise_desc;
 rec_noise_desc rec_noise_default(int enabled, uint64_t seed);
-/* Axial standard deviation (m) at depth z (m), Nguyen et al. 2012. */
+/* Axial standard deviation (m) at depth z (m) for a surface facing the camera, Nguyen et al.
+ * 2012; with the surface seen at angle theta (rad, normal to ray), their extra term; and their
+ * lateral standard deviation (px). */
 double rec_sigma_z(double z_m);
+double rec_sigma_z_angle(double z_m, double theta);
+double rec_sigma_lateral_px(double theta);
 /* depth_m: 640*480 metres along the optical axis (0 or non-finite = nothing seen).
  * scratch: 640*480 floats. raw_out: 640*480 disparities. */
 void rec_noise_apply(const rec_noise_desc *d, int frame, const float *depth_m, float *scratch,

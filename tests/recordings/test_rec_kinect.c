@@ -57,6 +57,46 @@ static void test_sigma_z_follows_nguyen(void **state)
     assert_true(fabs(rec_sigma_z(2.4) - (0.0012 + 0.0019 * 4.0)) < 1e-12);
 }
 
+static void test_grazing_angle_terms_follow_nguyen(void **state)
+{
+    (void)state;
+    assert_true(fabs(rec_sigma_z_angle(2.0, 0.0) - rec_sigma_z(2.0)) < 1e-15);
+    double th = 60.0 / 90.0 * 1.5707963267948966; /* theta / (pi/2 - theta) = 2 */
+    assert_true(fabs(rec_sigma_z_angle(2.0, th) - (rec_sigma_z(2.0) + 0.0001 / sqrt(2.0) * 4.0)) <
+                1e-12);
+    assert_true(fabs(rec_sigma_lateral_px(0.0) - 0.8) < 1e-15);
+    assert_true(fabs(rec_sigma_lateral_px(th) - (0.8 + 0.035 * 2.0)) < 1e-12);
+}
+
+/* A wall at 2 m whose depth grows by step_m per column: seen at atan(step fx / z) to the ray. */
+static int dropped_on_slant(float step_m)
+{
+    float *d = malloc(sizeof(float) * N), *s = malloc(sizeof(float) * N);
+    uint16_t *raw = malloc(sizeof(uint16_t) * N);
+    for (int v = 0; v < REC_HEIGHT; v++)
+        for (int u = 0; u < REC_WIDTH; u++)
+            d[v * REC_WIDTH + u] = 2.0f + step_m * (float)(u - 320);
+    rec_noise_desc nd = rec_noise_default(1, 3);
+    nd.shadows = 0;
+    nd.edge_jump_m = 0.2f; /* the steep slant is one surface, not an edge */
+    rec_noise_apply(&nd, 0, d, s, raw);
+    int lost = 0;
+    for (int v = 200; v < 280; v++)
+        for (int u = 310; u < 330; u++)
+            lost += raw[v * REC_WIDTH + u] == REC_RAW_NONE;
+    free(d);
+    free(s);
+    free(raw);
+    return lost;
+}
+
+static void test_surfaces_past_85_degrees_read_nothing(void **state)
+{
+    (void)state;
+    assert_int_equal(dropped_on_slant(0.09f), 80 * 20);  /* about 88 degrees */
+    assert_true(dropped_on_slant(0.02f) < 80 * 20 / 10); /* about 80 degrees: kept */
+}
+
 /* A flat wall 2 m away filling the image. */
 static void flat(float *d, float z)
 {
@@ -191,6 +231,8 @@ int main(void)
         cmocka_unit_test(test_raw_to_mm_matches_libfreenect_formula_samples),
         cmocka_unit_test(test_mm_to_raw_inverts_and_quantises),
         cmocka_unit_test(test_sigma_z_follows_nguyen),
+        cmocka_unit_test(test_grazing_angle_terms_follow_nguyen),
+        cmocka_unit_test(test_surfaces_past_85_degrees_read_nothing),
         cmocka_unit_test(test_noise_off_is_exact_quantisation),
         cmocka_unit_test(test_noise_on_has_the_model_sigma_and_is_seeded),
         cmocka_unit_test(test_projector_casts_a_shadow_beside_a_near_object),
