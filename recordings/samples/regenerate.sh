@@ -2,7 +2,7 @@
 # Regenerates the committed sample recordings with tryon-synth (docs/recordings.md). Run after a
 # change of the body model, the camera or the noise model:  recordings/samples/regenerate.sh BUILD
 set -eu
-build=${1:?usage: regenerate.sh BUILD_DIR}
+build=$(cd "${1:?usage: regenerate.sh BUILD_DIR}" && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
 synth="$build/recordings/tryon-synth"
 work=$(mktemp -d)
