@@ -18,6 +18,95 @@ __kernel void sim_find_contacts(__global const float4 *x, int begin, int end, in
         sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius, &q, &bary, &dist);
 }
 
+/* Squared distance from p to triangle t and the region of its closest point. */
+float sim_tri_dist2(__global const float4 *v, __global const int4 *tris, int t, float4 p,
+                    int *region)
+{
+    int4 f = tris[t];
+    float4 q, bary;
+    *region = sim_closest_on_triangle(p, v[f.x], v[f.y], v[f.z], &q, &bary);
+    float4 d = sim_sub3(p, q);
+    return sim_dot3(d, d);
+}
+
+#define WALK_MAX_STEPS 8
+
+/* Twin of walk_nearest (sim/collide.c): greedy descent over the body surface. */
+int sim_walk_nearest(__global const float4 *v, __global const int4 *tris,
+                     __global const int *vt_start, __global const int *vt_list, float4 p, int t,
+                     float *d2_out)
+{
+    int region;
+    float d2 = sim_tri_dist2(v, tris, t, p, &region);
+    for (int step = 0; step < WALK_MAX_STEPS && region != SIM_REGION_FACE; step++) {
+        int4 f = tris[t];
+        int verts[2], nvert = 1;
+        if (region <= SIM_REGION_V2) {
+            int c = region - SIM_REGION_V0;
+            verts[0] = c == 0 ? f.x : (c == 1 ? f.y : f.z);
+        } else {
+            int e = region - SIM_REGION_E01;
+            verts[0] = e == 0 ? f.x : (e == 1 ? f.y : f.z);
+            verts[1] = e == 0 ? f.y : (e == 1 ? f.z : f.x);
+            nvert = 2;
+        }
+        int best = t, best_region = region;
+        float best_d2 = d2;
+        for (int k = 0; k < nvert; k++)
+            for (int j = vt_start[verts[k]]; j < vt_start[verts[k] + 1]; j++) {
+                int o = vt_list[j], r;
+                if (o == best)
+                    continue;
+                float od2 = sim_tri_dist2(v, tris, o, p, &r);
+                if (od2 < best_d2 || (od2 == best_d2 && o < best)) {
+                    best = o;
+                    best_d2 = od2;
+                    best_region = r;
+                }
+            }
+        if (best == t)
+            break;
+        t = best;
+        d2 = best_d2;
+        region = best_region;
+    }
+    *d2_out = d2;
+    return t;
+}
+
+/* Twin of sim_collider_track_contacts for point i. */
+void sim_track_contact_one(__global const float4 *x, int i, int nleaves, __global const int2 *child,
+                           __global const int *order, __global const float4 *lo,
+                           __global const float4 *hi, __global const float4 *v,
+                           __global const int4 *tris, __global const int *vt_start,
+                           __global const int *vt_list, float radius, __global int *contact)
+{
+    int t = contact[i];
+    if (t >= 0 && t < nleaves) {
+        float d2;
+        t = sim_walk_nearest(v, tris, vt_start, vt_list, x[i], t, &d2);
+        contact[i] = d2 <= radius * radius ? t : -1;
+    } else {
+        float4 q, bary;
+        float dist;
+        contact[i] =
+            sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius, &q, &bary, &dist);
+    }
+}
+
+__kernel void sim_track_contacts(__global const float4 *x, int begin, int end, int nleaves,
+                                 __global const int2 *child, __global const int *order,
+                                 __global const float4 *lo, __global const float4 *hi,
+                                 __global const float4 *v, __global const int4 *tris,
+                                 __global const int *vt_start, __global const int *vt_list,
+                                 float radius, __global int *contact)
+{
+    int i = begin + (int)get_global_id(0);
+    if (i < end)
+        sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start, vt_list,
+                              radius, contact);
+}
+
 float sim_corner_angle(__global const float4 *v, int4 f, int k)
 {
     int ip = k == 0 ? f.x : (k == 1 ? f.y : f.z);

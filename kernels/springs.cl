@@ -142,8 +142,9 @@ __kernel void sim_tethers(__global float4 *x, __global const int *anchor, __glob
 }
 
 /* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
-   work-group: contacts every contact_every steps, Verlet, XPBD springs colour by colour,
-   tethers, strain limiting colour by colour, collision response. */
+   work-group: contacts every contact_every steps (a full search, or the surface walk of
+   sim_collider_track_contacts when contact_walk is set: whichever the C solver calls), Verlet, XPBD
+   springs colour by colour, tethers, strain limiting colour by colour, collision response. */
 __kernel void sim_iterations_tryon(
     __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
     __global const float *rest, __global const uchar *kind, __global const int *color_start,
@@ -153,12 +154,15 @@ __kernel void sim_iterations_tryon(
     __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
     __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
-    __global int *contact)
+    __global int *contact, int contact_walk)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     for (int it = 0; it < iters; it++) {
         for (int i = lid; i < nv; i += L) {
-            if (it > 0 && it % contact_every == 0) {
+            if (it > 0 && it % contact_every == 0 && contact_walk) {
+                sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start,
+                                      vt_list, radius, contact);
+            } else if (it > 0 && it % contact_every == 0) {
                 float4 q, bary;
                 float dist;
                 contact[i] = sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius,

@@ -17,6 +17,9 @@
 /* Work-group size cap of the iterations kernel: every work-item strides over vertices and
    springs; larger groups only add barrier cost on a CPU device. */
 #define ITER_GROUP_MAX 1024
+/* Contact refresh inside the iterations, as sim/solver_c.c iterations_tryon does it: 0 = the full
+   search (sim_collider_find_contacts), 1 = the surface walk (sim_collider_track_contacts). */
+#define CONTACT_WALK 0
 
 typedef struct cl_state {
     sim_cl cl;
@@ -216,6 +219,8 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 29, h);
     st |= ARG(it, 30, mu);
     st |= ARG(it, 31, c->g.contact);
+    int walk = CONTACT_WALK;
+    st |= ARG(it, 32, walk);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

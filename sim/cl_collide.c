@@ -51,10 +51,11 @@ int sim_cl_collide_create(sim_cl_collide *g, const sim_cl *cl, int max_nv, int m
     struct {
         cl_kernel *k;
         const char *name;
-    } ks[] = {{&g->k_morton, "sim_bvh_morton"}, {&g->k_nodes, "sim_bvh_build_nodes"},
-              {&g->k_refit, "sim_bvh_refit"},   {&g->k_normals, "sim_face_normals"},
-              {&g->k_fp, "sim_feature_points"}, {&g->k_contacts, "sim_find_contacts"},
-              {&g->k_resolve, "sim_resolve"},   {&g->k_sd, "sim_signed_distance"}};
+    } ks[] = {{&g->k_morton, "sim_bvh_morton"},   {&g->k_nodes, "sim_bvh_build_nodes"},
+              {&g->k_refit, "sim_bvh_refit"},     {&g->k_normals, "sim_face_normals"},
+              {&g->k_fp, "sim_feature_points"},   {&g->k_contacts, "sim_find_contacts"},
+              {&g->k_resolve, "sim_resolve"},     {&g->k_sd, "sim_signed_distance"},
+              {&g->k_track, "sim_track_contacts"}};
     for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++)
         if (!(*ks[i].k = sim_cl_kernel(cl, ks[i].name, err, err_size))) {
             sim_cl_collide_destroy(g);
@@ -67,8 +68,8 @@ void sim_cl_collide_destroy(sim_cl_collide *g)
 {
     if (!g)
         return;
-    cl_kernel ks[] = {g->k_morton, g->k_nodes,    g->k_refit,   g->k_normals,
-                      g->k_fp,     g->k_contacts, g->k_resolve, g->k_sd};
+    cl_kernel ks[] = {g->k_morton,   g->k_nodes,   g->k_refit, g->k_normals, g->k_fp,
+                      g->k_contacts, g->k_resolve, g->k_sd,    g->k_track};
     for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++)
         if (ks[i])
             clReleaseKernel(ks[i]);
@@ -229,6 +230,28 @@ int sim_cl_collide_find_contacts(sim_cl_collide *g, cl_mem x, int begin, int end
     st |= ARG(k, 9, g->tris);
     st |= ARG(k, 10, radius_m);
     st |= ARG(k, 11, g->contact);
+    if (st != CL_SUCCESS)
+        return SIM_CL_ECALL;
+    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+}
+
+int sim_cl_collide_track_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m)
+{
+    cl_kernel k = g->k_track;
+    cl_int st = ARG(k, 0, x);
+    st |= ARG(k, 1, begin);
+    st |= ARG(k, 2, end);
+    st |= ARG(k, 3, g->nt);
+    st |= ARG(k, 4, g->child);
+    st |= ARG(k, 5, g->order);
+    st |= ARG(k, 6, g->lo);
+    st |= ARG(k, 7, g->hi);
+    st |= ARG(k, 8, g->v);
+    st |= ARG(k, 9, g->tris);
+    st |= ARG(k, 10, g->vt_start);
+    st |= ARG(k, 11, g->vt_list);
+    st |= ARG(k, 12, radius_m);
+    st |= ARG(k, 13, g->contact);
     if (st != CL_SUCCESS)
         return SIM_CL_ECALL;
     return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;

@@ -19,7 +19,7 @@ typedef struct sim_cl_collide {
     cl_mem v, v_prev, tris, n, n_prev, nbr, vt_start, vt_list;
     cl_mem morton, order, child, parent, lo, hi, slo, shi, counter;
     cl_mem contact, moved, sd;
-    cl_kernel k_morton, k_nodes, k_refit, k_normals, k_fp, k_contacts, k_resolve, k_sd;
+    cl_kernel k_morton, k_nodes, k_refit, k_normals, k_fp, k_contacts, k_resolve, k_sd, k_track;
 } sim_cl_collide;
 
 /* cl must have a program built with SIM_CL_COLLIDE_FILES. 0 or a sim_cl_error. */
@@ -36,6 +36,8 @@ int sim_cl_collide_set_body(sim_cl_collide *g, const sim_collider *c, char *err,
 int sim_cl_collide_feature_points(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin, int end,
                                   float thickness_m);
 int sim_cl_collide_find_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m);
+/* Twin of sim_collider_track_contacts: the surface walk from each cached triangle. */
+int sim_cl_collide_track_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m);
 int sim_cl_collide_resolve(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin, int end,
                            float thickness_m, float friction);
 /* Signed distance per point into g->sd. */

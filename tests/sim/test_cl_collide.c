@@ -279,6 +279,17 @@ static void test_cl_contacts_resolve_and_distance_match_c(void **state)
     assert_int_equal(sim_cl_collide_resolve(&f->g, f->x, f->x_prev, 0, NP, 0.004f, 0.4f), 0);
     read(f, f->x, NP * 16, dx);
     compare_points(x, dx, NP);
+    /* The surface walk from the cached triangles, after every point moved up to 8 mm. */
+    uint32_t s = 77u;
+    for (int i = 0; i < NP; i++)
+        for (int k = 0; k < 3; k++)
+            x[i][k] += tc_range(&s, -0.008f, 0.008f);
+    put(f, f->x, NP * 16, x);
+    sim_collider_track_contacts(f->c, (const float(*)[4])x, 0, NP);
+    assert_int_equal(sim_cl_collide_track_contacts(&f->g, f->x, 0, NP, 0.004f + 0.03f), 0);
+    read(f, f->g.contact, NP * 4, dc);
+    for (int i = 0; i < NP; i++)
+        assert_int_equal(dc[i], f->c->contact[i]);
     /* Signed distance of the original points. */
     put(f, f->x, NP * 16, f->hx);
     assert_int_equal(sim_cl_collide_signed_distance(&f->g, f->x, NP), 0);
