@@ -48,7 +48,8 @@ typedef struct sim_body {
     float (*v)[4];
     float (*v_prev)[4];
     int32_t (*tris)[4];
-    float (*n)[4]; /* face normals of frame k */
+    float (*n)[4];    /* face normals of frame k */
+    float max_move_m; /* the farthest any vertex moved from k-1 to k */
 } sim_body;
 
 struct sim;
@@ -88,16 +89,18 @@ struct sim {
     int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
     long frame;        /* body frames stepped */
     float energy_good; /* kinetic energy per kg of the last good frame, J/kg */
+    float strain_good; /* max stretch strain of the last good frame */
 };
 
 /* Solver constants and the reasons for them. */
-#define SIM_PEN_TOL_M      0.001f /* ARCHITECTURE.md: penetrating = more than 1 mm inside */
-#define SIM_PROVOT_TAU     0.10f  /* Provot 1995: springs corrected past 10 % elongation */
-#define SIM_DIVERGE_STRAIN 0.5f   /* 50 % stretch is no fabric: the step blew up */
-#define SIM_DIVERGE_SPEED  50.0f  /* m/s; no garment point moves that fast on a person */
-#define SIM_MAX_RETRIES    2      /* each retry doubles the iterations */
-#define SIM_CONTACT_MARGIN 0.03f  /* tryon: contacts cached with this reach beyond thickness */
-#define SIM_CONTACT_EVERY  5      /* tryon: iterations between contact searches */
+#define SIM_PEN_TOL_M           0.001f /* ARCHITECTURE.md: penetrating = more than 1 mm inside */
+#define SIM_PROVOT_TAU          0.10f  /* Provot 1995: springs corrected past 10 % elongation */
+#define SIM_DIVERGE_STRAIN      0.5f   /* 50 % stretch is no fabric: the step blew up */
+#define SIM_DIVERGE_SPEED       50.0f  /* m/s; no garment point moves that fast on a person */
+#define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
+#define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
+#define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
+#define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
  * [begin, end) are vertices or springs; callers split them over threads. */

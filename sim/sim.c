@@ -51,6 +51,8 @@ int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
     return -(int)code;
 }
 
+static void save_good(sim *s);
+
 sim_desc sim_default_desc(void)
 {
     return (sim_desc){
@@ -183,6 +185,12 @@ static void body_store(sim_body *b, const float *xyz, int nv, const int32_t *tri
         b->v[i][3] = 0.0f;
     }
     b->have_prev = same;
+    b->max_move_m = 0.0f;
+    for (int i = 0; same && i < nv; i++) {
+        float dx = b->v[i][0] - b->v_prev[i][0], dy = b->v[i][1] - b->v_prev[i][1],
+              dz = b->v[i][2] - b->v_prev[i][2];
+        b->max_move_m = fmaxf(b->max_move_m, sqrtf(dx * dx + dy * dy + dz * dz));
+    }
     b->nv = nv;
     b->nt = nt;
     for (int t = 0; t < nt; t++) {
@@ -278,8 +286,7 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
         sim_destroy(s);
         return NULL;
     }
-    memcpy(s->x_good, s->cloth.x, (size_t)nv * sizeof *s->x_good);
-    memcpy(s->x_prev_good, s->cloth.x_prev, (size_t)nv * sizeof *s->x_prev_good);
+    save_good(s);
     memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
 
     char err[160] = "";
@@ -328,30 +335,40 @@ static double now_ms(void)
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
-/* Divergence: a coordinate that is not finite, a point faster than any garment moves on a
- * person, or a stretch no fabric survives. */
+/* Divergence: a coordinate that is not finite; a stretch no fabric survives, and growing; or a
+ * point faster than any garment moves on a person, unless the strain is relaxing (a scrambled
+ * start snapping back to its rest shape moves fast and is no divergence). */
 static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strain)
 {
     const sim_cloth *c = &s->cloth;
     float dt = s->desc.frame_dt_s / (float)iters;
     float max_step2 = SIM_DIVERGE_SPEED * dt * SIM_DIVERGE_SPEED * dt;
+    /* cloth dragged by the body may move as fast as the body does, and then some */
+    float max_frame = SIM_DIVERGE_FRAME_SPEED * s->desc.frame_dt_s + 2.0f * s->body.max_move_m;
+    float max_frame2 = max_frame * max_frame;
+    int too_fast = 0;
     for (int i = 0; i < c->nv; i++) {
-        float v2 = 0.0f;
+        float v2 = 0.0f, f2 = 0.0f;
         for (int d = 0; d < 3; d++) {
             if (!isfinite(c->x[i][d]) || !isfinite(c->x_prev[i][d]))
                 return 1;
             float dv = c->x[i][d] - c->x_prev[i][d];
+            float df = c->x[i][d] - s->x_good[i][d];
             v2 += dv * dv;
+            f2 += df * df;
         }
-        if (v2 > max_step2)
-            return 1;
+        too_fast |= v2 > max_step2 || f2 > max_frame2;
     }
     sim_strain_stats(c, s->scratch, max_strain, p99_strain);
-    return !(*max_strain < SIM_DIVERGE_STRAIN);
+    int growing = *max_strain > 1.05f * s->strain_good + 0.01f;
+    int relaxing = *max_strain < 0.9f * s->strain_good;
+    return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
 }
 
 static void save_good(sim *s)
 {
+    float p99;
+    sim_strain_stats(&s->cloth, s->scratch, &s->strain_good, &p99);
     size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_good;
     memcpy(s->x_good, s->cloth.x, bytes);
     memcpy(s->x_prev_good, s->cloth.x_prev, bytes);
@@ -493,4 +510,22 @@ void sim_debug_set_vertex(sim *s, int i, float x, float y, float z)
     s->cloth.x[i][1] = y;
     s->cloth.x[i][2] = z;
     s->ops->upload(s->backend, s);
+}
+
+int sim_set_positions(sim *s, const float *xyz, sim_reject *why)
+{
+    if (!s || !xyz)
+        return sim_reject_set(why, SIM_ERR_ARG, "sim_set_positions: NULL");
+    for (int i = 0; i < s->cloth.nv * 3; i++)
+        if (!isfinite(xyz[i]))
+            return sim_reject_set(why, SIM_ERR_NOT_FINITE, "position %d coordinate %d = %g", i / 3,
+                                  i % 3, xyz[i]);
+    for (int i = 0; i < s->cloth.nv; i++) {
+        if (s->cloth.x[i][3] == 0.0f)
+            continue; /* attached vertices stay where the body puts them */
+        for (int d = 0; d < 3; d++)
+            s->cloth.x[i][d] = s->cloth.x_prev[i][d] = xyz[i * 3 + d];
+    }
+    save_good(s);
+    return s->ops->upload(s->backend, s);
 }

@@ -159,6 +159,10 @@ const int32_t *sim_triangles(const sim *s);        /* [triangle][3] */
 const char *sim_device_name(const sim *s); /* "C reference (2 threads)", the OpenCL device */
 const sim_desc *sim_get_desc(const sim *s);
 
+/* Replace the cloth state (xyz: [vertex][3], at rest: previous = current), e.g. to restart a
+ * garment or start from a scrambled state; the rest shape stays the garment's. */
+int sim_set_positions(sim *s, const float *xyz, sim_reject *why);
+
 /* Test hook: overwrite one vertex (to inject NaN or a far jump). */
 void sim_debug_set_vertex(sim *s, int i, float x, float y, float z);
 

@@ -12,7 +12,9 @@
 #include "cloth.h"
 
 typedef struct c_state {
-    float (*acc)[4]; /* seed: spring forces times dt^2 / m, per vertex */
+    float (*acc)[4];      /* seed: spring forces times dt^2 / m, per vertex */
+    float (*att_from)[4]; /* attached vertices at the start and end of the frame */
+    float (*att_to)[4];
     char name[64];
 } c_state;
 
@@ -23,15 +25,29 @@ static double now_ms(void)
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
+static void c_destroy(void *state)
+{
+    c_state *c = state;
+    if (!c)
+        return;
+    free(c->acc);
+    free(c->att_from);
+    free(c->att_to);
+    free(c);
+}
+
 static int c_create(struct sim *s, void **state, char *err, size_t err_size)
 {
     c_state *c = calloc(1, sizeof *c);
-    if (c)
+    int na = s->cloth.num_attachments + 1;
+    if (c) {
         c->acc = calloc((size_t)s->cloth.nv, sizeof *c->acc);
-    if (!c || !c->acc) {
+        c->att_from = calloc((size_t)na, sizeof *c->att_from);
+        c->att_to = calloc((size_t)na, sizeof *c->att_to);
+    }
+    if (!c || !c->acc || !c->att_from || !c->att_to) {
         snprintf(err, err_size, "C backend: out of memory for %d vertices", s->cloth.nv);
-        if (c)
-            free(c);
+        c_destroy(c);
         return -SIM_ERR_NO_MEMORY;
     }
     int threads = 1;
@@ -41,15 +57,6 @@ static int c_create(struct sim *s, void **state, char *err, size_t err_size)
     snprintf(c->name, sizeof c->name, "C reference (%d threads)", threads);
     *state = c;
     return 0;
-}
-
-static void c_destroy(void *state)
-{
-    c_state *c = state;
-    if (!c)
-        return;
-    free(c->acc);
-    free(c);
 }
 
 /* This thread's share [b, e) of n items. */
@@ -64,25 +71,37 @@ static void thread_range(int n, int *b, int *e)
     *e = (int)((long)n * (t + 1) / nt);
 }
 
-/* Attached vertices follow their body triangle: x = sum b_k v_k + offset n, with x_prev at the
- * same point on frame k-1 so friction sees the body's motion. */
-static void place_attachments(struct sim *s)
+/* Attached vertices follow their body triangle: x = sum b_k v_k + offset n, from where they
+ * were to where frame k puts them, spread over the steps of the frame as the body moved. */
+static void attachment_targets(struct sim *s, c_state *cs)
 {
     const sim_body *b = &s->body;
     for (int a = 0; a < s->cloth.num_attachments; a++) {
         const sim_attachment *at = &s->cloth.attachments[a];
         const int32_t *t = b->tris[at->body_triangle];
-        float *x = s->cloth.x[at->vertex];
-        float *xp = s->cloth.x_prev[at->vertex];
         for (int d = 0; d < 3; d++) {
-            xp[d] = x[d];
-            x[d] = at->bary[0] * b->v[t[0]][d] + at->bary[1] * b->v[t[1]][d] +
-                   at->bary[2] * b->v[t[2]][d] + at->offset_m * b->n[at->body_triangle][d];
+            cs->att_from[a][d] = s->cloth.x[at->vertex][d];
+            cs->att_to[a][d] = at->bary[0] * b->v[t[0]][d] + at->bary[1] * b->v[t[1]][d] +
+                               at->bary[2] * b->v[t[2]][d] +
+                               at->offset_m * b->n[at->body_triangle][d];
         }
     }
 }
 
-static void iterations_tryon(struct sim *s, int iters, float dt, float keep, const float g[3])
+static void place_attachments(struct sim *s, const c_state *cs, int it, int iters)
+{
+    float u = (float)(it + 1) / (float)iters;
+    for (int a = 0; a < s->cloth.num_attachments; a++) {
+        int v = s->cloth.attachments[a].vertex;
+        for (int d = 0; d < 3; d++) {
+            s->cloth.x_prev[v][d] = s->cloth.x[v][d];
+            s->cloth.x[v][d] = cs->att_from[a][d] + u * (cs->att_to[a][d] - cs->att_from[a][d]);
+        }
+    }
+}
+
+static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
+                             const float g[3])
 {
     sim_cloth *c = &s->cloth;
     float alpha[SIM_SPRING_KINDS];
@@ -100,7 +119,8 @@ static void iterations_tryon(struct sim *s, int iters, float dt, float keep, con
             if (it > 0 && it % SIM_CONTACT_EVERY == 0)
                 sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, vb, ve);
             sim_verlet(c->x, c->x_prev, vb, ve, keep, g);
-#pragma omp barrier
+#pragma omp single
+            place_attachments(s, cs, it, iters);
             for (int col = 0; col < c->num_colors; col++) {
 #pragma omp for schedule(static)
                 for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
@@ -146,7 +166,8 @@ static void iterations_seed(struct sim *s, c_state *cs, int iters, float dt, flo
                 }
             }
             sim_verlet_forces(c->x, c->x_prev, (const float(*)[4])acc, vb, ve, keep, g);
-#pragma omp barrier
+#pragma omp single
+            place_attachments(s, cs, it, iters);
             for (int col = 0; col < c->num_colors; col++) {
 #pragma omp for schedule(static)
                 for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
@@ -181,7 +202,7 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     if (s->body.have_prev)
         st->feature_points_moved =
             sim_collider_feature_points(s->collider, c->x, c->x_prev, 0, c->nv);
-    place_attachments(s);
+    attachment_targets(s, cs);
     double t1 = now_ms();
     st->ms_feature_points = (float)(t1 - t0);
     if (s->desc.solver == SIM_SOLVER_SEED) {
@@ -198,7 +219,7 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
         }
         double t2 = now_ms();
         st->ms_contacts = (float)(t2 - t1);
-        iterations_tryon(s, iters, dt, keep, g);
+        iterations_tryon(s, cs, iters, dt, keep, g);
         st->ms_iterations = (float)(now_ms() - t2);
     }
     return 0;

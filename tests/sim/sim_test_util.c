@@ -1,0 +1,98 @@
+#include <math.h>
+#include <stdio.h>
+
+#include "cloth.h"
+#include "sim_test_util.h"
+
+int simt_backends(sim_backend out[2])
+{
+    int n = 0;
+    sim_backend all[2] = {SIM_BACKEND_C, SIM_BACKEND_OPENCL};
+    for (int k = 0; k < 2; k++) {
+        sim_garment g = {0};
+        sim_garment_drape(16, 0.1f, 0.0f, &g);
+        sim_desc d = sim_default_desc();
+        d.backend = all[k];
+        sim *s = sim_create(&d, &g, NULL);
+        sim_garment_free(&g);
+        if (s)
+            out[n++] = all[k];
+        else if (all[k] == SIM_BACKEND_OPENCL)
+            printf("# opencl backend unavailable here: C only\n");
+        sim_destroy(s);
+    }
+    return n;
+}
+
+const char *simt_backend_name(sim_backend b)
+{
+    return b == SIM_BACKEND_C ? "c" : "opencl";
+}
+
+sim *simt_drape(sim_backend b, sim_solver solver, int n, const sim_desc *over)
+{
+    sim_garment g = {0};
+    if (sim_garment_drape(n * n, 0.6f, 0.35f, &g) < 0)
+        return NULL;
+    sim_desc d = over ? *over : sim_default_desc();
+    d.backend = b;
+    d.solver = solver;
+    sim_reject why = {0};
+    sim *s = sim_create(&d, &g, &why);
+    if (!s)
+        printf("# sim_create: %s: %s\n", sim_error_name(why.code), why.detail);
+    sim_garment_free(&g);
+    return s;
+}
+
+sim_scene *simt_sphere(void)
+{
+    float c[3] = {0, 0, 0};
+    return sim_scene_sphere(0.2f, c, 400);
+}
+
+int simt_run(sim *s, sim_scene *sc, int frames, sim_frame_stats *last)
+{
+    int worst = 0;
+    for (int f = 0; f < frames; f++) {
+        const float *xyz, *joints;
+        const int32_t *tris;
+        int nv, nt;
+        sim_scene_eval(sc, f / 30.0, &xyz, &nv, &tris, &nt, &joints);
+        sim_frame_stats st;
+        sim_reject why = {0};
+        int r = sim_step(s, xyz, nv, tris, nt, &st, &why);
+        if (r < 0 && r != -SIM_ERR_DIVERGED) {
+            printf("# frame %d: %s: %s\n", f, sim_error_name(r), why.detail);
+            return -1;
+        }
+        worst = st.penetrating > worst ? st.penetrating : worst;
+        if (last)
+            *last = st;
+    }
+    return worst;
+}
+
+int simt_all_finite(const sim *s)
+{
+    const float *x = sim_positions(s);
+    for (int i = 0; i < sim_vertex_count(s) * 4; i++)
+        if (!isfinite(x[i]))
+            return 0;
+    return 1;
+}
+
+float simt_max_speed(const sim *s, float frame_dt)
+{
+    float mx = 0.0f;
+    int iters = s->desc.iterations;
+    for (int i = 0; i < s->cloth.nv; i++) {
+        float v2 = 0.0f;
+        for (int d = 0; d < 3; d++) {
+            float dv = s->cloth.x[i][d] - s->cloth.x_prev[i][d];
+            v2 += dv * dv;
+        }
+        mx = fmaxf(mx, sqrtf(v2) * (float)iters / frame_dt);
+    }
+    return mx;
+}

@@ -1,0 +1,20 @@
+/* Helpers shared by the test_sim_* tests: scenes small enough for the sanitizer build, and the
+ * backends to run each test body on (STYLE.md 14). */
+#ifndef TRYON_SIM_TEST_UTIL_H
+#define TRYON_SIM_TEST_UTIL_H
+
+#include "scene.h"
+#include "sim.h"
+
+/* The backends built into this binary whose device opens here. */
+int simt_backends(sim_backend out[2]);
+const char *simt_backend_name(sim_backend b);
+
+/* The drape scene at test size: n x n sheet of side 0.6 m, 0.15 m above a 0.2 m sphere. */
+sim *simt_drape(sim_backend b, sim_solver solver, int n, const sim_desc *over);
+sim_scene *simt_sphere(void);
+/* Steps frames on a fixed body; returns the worst penetrating count, -1 on an error. */
+int simt_run(sim *s, sim_scene *sc, int frames, sim_frame_stats *last);
+int simt_all_finite(const sim *s);
+float simt_max_speed(const sim *s, float frame_dt); /* m/s from the last step */
+#endif
