@@ -88,14 +88,6 @@ static int parse_line(const char *line, char *type, double *t, unsigned *ts)
     return 0;
 }
 
-static int line_blank(const char *s)
-{
-    for (; *s; s++)
-        if (*s != ' ' && *s != '\t' && *s != '\r' && *s != '\n')
-            return 0;
-    return 1;
-}
-
 static rec_error index_add(rec_index *out, int *cap, double t, unsigned ts, const char *name)
 {
     if (out->count == *cap) {
@@ -110,6 +102,38 @@ static rec_error index_add(rec_index *out, int *cap, double t, unsigned ts, cons
     e->record_time_s = t;
     e->device_timestamp = ts;
     snprintf(e->name, sizeof e->name, "%s", name);
+    return REC_OK;
+}
+
+/* One INDEX.txt line (newline removed). ended_at: the first empty line seen, 0 = none. */
+static rec_error index_line(rec_index *out, int *cap, char *line, int lineno, int *ended_at,
+                            const char *path, rec_report *why)
+{
+    if (line[0] == 0) {
+        /* fakenect stops at the first empty line (a line of spaces is a file name to it):
+         * anything after it would never play. */
+        if (!*ended_at)
+            *ended_at = lineno;
+        return REC_OK;
+    }
+    if (*ended_at)
+        return rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno,
+                        "frames after the empty line %d would never replay", *ended_at);
+    if (strchr(line, '\r'))
+        return rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno,
+                        "carriage return: fakenect would open a file name ending in it");
+    char type;
+    double t;
+    unsigned ts;
+    if (parse_line(line, &type, &t, &ts) != 0)
+        return rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno, "'%.80s'", line);
+    if (type != 'd')
+        return REC_OK; /* rgb ('r') and accelerometer ('a') lines: tryon uses depth only */
+    if (strlen(line) >= sizeof out->frames[0].name || strchr(line, '/'))
+        return rec_fail(why, REC_ERR_BAD_LINE, path, out->count, lineno,
+                        "file name too long or outside the directory: '%.80s'", line);
+    if (index_add(out, cap, t, ts, line) != REC_OK)
+        return rec_fail(why, REC_ERR_NO_MEMORY, path, out->count, lineno, NULL);
     return REC_OK;
 }
 
@@ -130,44 +154,16 @@ rec_error rec_index_read(const char *dir, rec_index *out, rec_report *why)
     char line[1024];
     int cap = 0, lineno = 0, ended_at = 0;
     rec_error err = REC_OK;
-    while (fgets(line, sizeof line, fp)) {
+    while (err == REC_OK && fgets(line, sizeof line, fp)) {
         lineno++;
         size_t len = strlen(line);
         if (len == sizeof line - 1 && line[len - 1] != '\n') {
             err = rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno, "line too long");
             break;
         }
-        while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+        if (len && line[len - 1] == '\n')
             line[--len] = 0;
-        if (line_blank(line)) {
-            /* fakenect stops at the first empty line: anything after it would never play. */
-            if (!ended_at)
-                ended_at = lineno;
-            continue;
-        }
-        if (ended_at) {
-            err = rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno,
-                           "frames after the empty line %d would never replay", ended_at);
-            break;
-        }
-        char type;
-        double t;
-        unsigned ts;
-        if (parse_line(line, &type, &t, &ts) != 0) {
-            err = rec_fail(why, REC_ERR_BAD_LINE, path, -1, lineno, "'%.80s'", line);
-            break;
-        }
-        if (type != 'd')
-            continue; /* rgb ('r') and accelerometer ('a') lines: tryon uses depth only */
-        if (len >= sizeof out->frames[0].name || strchr(line, '/')) {
-            err = rec_fail(why, REC_ERR_BAD_LINE, path, out->count, lineno,
-                           "file name too long or outside the directory: '%.80s'", line);
-            break;
-        }
-        if (index_add(out, &cap, t, ts, line) != REC_OK) {
-            err = rec_fail(why, REC_ERR_NO_MEMORY, path, out->count, lineno, NULL);
-            break;
-        }
+        err = index_line(out, &cap, line, lineno, &ended_at, path, why);
     }
     fclose(fp);
     if (err == REC_OK && out->count == 0)
