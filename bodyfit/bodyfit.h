@@ -159,6 +159,10 @@ typedef struct fit_measurements {
 } fit_measurements;
 int fit_model_measure(const fit_model *m, fit_measurements *out);
 
+/* Area-weighted unit vertex normals of a posed (or rest) vertex array: vertex_count * 3 floats
+ * in, the same out. No allocation. Returns 0 or a negative fit_error. */
+int fit_model_normals(const fit_model *m, const float *vertices, float *normals_out);
+
 /* Skinning data: FIT_MAX_INFLUENCES joints and weights per vertex (unused slots weight 0). */
 #define FIT_MAX_INFLUENCES 4
 const uint8_t *fit_model_weight_joints(const fit_model *m); /* [vertex][4] */

@@ -102,3 +102,35 @@ int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out
     }
     return 0;
 }
+
+int fit_model_normals(const fit_model *m, const float *vertices, float *normals_out)
+{
+    if (!m || !vertices || !normals_out)
+        return FIT_ERR_ARG;
+    int nv = m->mesh.nv;
+    for (int i = 0; i < nv * 3; ++i)
+        normals_out[i] = 0.0f;
+    /* The cross product's length is twice the area: summing it weights faces by area. */
+    for (int t = 0; t < m->mesh.nt; ++t) {
+        const int32_t *tr = m->mesh.t + (size_t)t * 3;
+        const float *a = vertices + (size_t)tr[0] * 3, *b = vertices + (size_t)tr[1] * 3;
+        const float *c = vertices + (size_t)tr[2] * 3;
+        float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        float n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                      u[0] * w[1] - u[1] * w[0]};
+        for (int k = 0; k < 3; ++k)
+            for (int e = 0; e < 3; ++e)
+                normals_out[(size_t)tr[k] * 3 + e] += n[e];
+    }
+    for (int i = 0; i < nv; ++i) {
+        float *n = normals_out + (size_t)i * 3;
+        float l = sqrtf(body_dot(n, n));
+        if (!(l > 0.0f))
+            return FIT_ERR_MESH; /* a vertex whose faces cancel: the vertices are degenerate */
+        n[0] /= l;
+        n[1] /= l;
+        n[2] /= l;
+    }
+    return 0;
+}

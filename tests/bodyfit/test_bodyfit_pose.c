@@ -332,6 +332,43 @@ static void test_feet_stay_on_the_floor_while_walking(void **state)
     }
 }
 
+/* Normals are unit length and agree with the faces around them, at rest and posed. */
+static void test_normals_are_unit_and_follow_the_faces(void **state)
+{
+    (void)state;
+    float *n = malloc((size_t)fit_model_vertex_count(model) * 3 * sizeof(float));
+    assert_non_null(n);
+    fit_pose p;
+    fit_motion_eval(FIT_MOTION_ARM_RAISE, 1.3, &p);
+    assert_int_equal(fit_model_pose(model, &p, buf_a, NULL), 0);
+    const float *sets[2] = {fit_model_rest_vertices(model), buf_a};
+    for (int s = 0; s < 2; ++s) {
+        const float *v = sets[s];
+        assert_int_equal(fit_model_normals(model, v, n), 0);
+        int nv = fit_model_vertex_count(model), nt = fit_model_triangle_count(model), bad = 0;
+        for (int i = 0; i < nv; ++i)
+            assert_float_equal(n[i * 3] * n[i * 3] + n[i * 3 + 1] * n[i * 3 + 1] +
+                                   n[i * 3 + 2] * n[i * 3 + 2],
+                               1.0f, 1e-4f);
+        const int32_t *t = fit_model_triangles(model);
+        for (int i = 0; i < nt; ++i) {
+            const float *a = v + (size_t)t[i * 3] * 3, *b = v + (size_t)t[i * 3 + 1] * 3;
+            const float *c = v + (size_t)t[i * 3 + 2] * 3;
+            float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            float w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            float f[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                          u[0] * w[1] - u[1] * w[0]};
+            for (int k = 0; k < 3; ++k) {
+                const float *m = n + (size_t)t[i * 3 + k] * 3;
+                bad += f[0] * m[0] + f[1] * m[1] + f[2] * m[2] <= 0.0f;
+            }
+        }
+        assert_true(bad <= nt * 3 / 1000); /* only at the sharpest folds, if anywhere */
+    }
+    assert_int_equal(fit_model_normals(model, NULL, n), FIT_ERR_ARG);
+    free(n);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -347,6 +384,7 @@ int main(void)
         cmocka_unit_test(test_motions_loop_and_have_names),
         cmocka_unit_test(test_motions_reach_their_extremes),
         cmocka_unit_test(test_feet_stay_on_the_floor_while_walking),
+        cmocka_unit_test(test_normals_are_unit_and_follow_the_faces),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
