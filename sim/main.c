@@ -1,0 +1,232 @@
+/* tryon-sim: BODY in, CLOTH and TIMING out. The garment is loaded (--garment FILE) or generated
+ * around the first body received; every body frame is one sim_step. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bus.h"
+#include "sim.h"
+
+#define SIM_MAIN_TRIANGLES_EVERY 30 /* resend the garment's triangles once a second at 30 fps */
+#define SIM_MAIN_JOINTS          21 /* bodyfit's FIT_JOINT_COUNT */
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+typedef struct app {
+    lcm_t *lcm;
+    sim_desc desc;
+    const char *garment_path;
+    int verts, frames_wanted, frames_done, skipped, triangles_every;
+    sim *sim;
+    char garment_id[64];
+    int32_t body_topology; /* topology whose triangles we hold */
+    int32_t *body_tris;
+    int body_nt;
+    float *xyz; /* cloth vertices for the message */
+    char channel_cloth[BUS_CHANNEL_MAX];
+} app;
+
+static int make_sim(app *a, const tryon_body_t *b)
+{
+    sim_garment g = {0};
+    sim_reject why = {0};
+    int r;
+    if (a->garment_path) {
+        r = sim_garment_load_obj(a->garment_path, &g, &why);
+    } else {
+        const float *joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3 ? b->joints : NULL;
+        r = sim_garment_shirt(b->vertices, b->num_vertex_coords / 3, a->body_tris, a->body_nt,
+                              joints, a->verts, 0.0f, &g, &why);
+    }
+    if (r < 0) {
+        fprintf(stderr, "tryon-sim: garment %s: %s: %s\n",
+                a->garment_path ? a->garment_path : "(generated)", sim_error_name(why.code),
+                why.detail);
+        return -1;
+    }
+    a->sim = sim_create(&a->desc, &g, &why);
+    if (!a->sim && why.code == SIM_ERR_BACKEND && a->desc.backend == SIM_BACKEND_OPENCL) {
+        fprintf(stderr, "tryon-sim: %s; falling back to the C backend\n", why.detail);
+        a->desc.backend = SIM_BACKEND_C;
+        a->sim = sim_create(&a->desc, &g, &why);
+    }
+    snprintf(a->garment_id, sizeof a->garment_id, "%s", g.id);
+    sim_garment_free(&g);
+    if (!a->sim) {
+        fprintf(stderr, "tryon-sim: %s: %s\n", sim_error_name(why.code), why.detail);
+        return -1;
+    }
+    a->xyz = malloc((size_t)sim_vertex_count(a->sim) * 3 * sizeof *a->xyz);
+    if (!a->xyz)
+        return -1;
+    fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s\n", a->garment_id,
+            sim_vertex_count(a->sim), a->desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
+            sim_device_name(a->sim));
+    return 0;
+}
+
+/* Triangles come with a topology id and may be omitted when unchanged: keep the last list. */
+static int body_triangles(app *a, const tryon_body_t *b)
+{
+    if (b->num_triangle_indices > 0) {
+        int32_t *t = realloc(a->body_tris, (size_t)b->num_triangle_indices * sizeof *t);
+        if (!t)
+            return -1;
+        memcpy(t, b->triangles, (size_t)b->num_triangle_indices * sizeof *t);
+        a->body_tris = t;
+        a->body_nt = b->num_triangle_indices / 3;
+        a->body_topology = b->topology_id;
+        return 0;
+    }
+    return a->body_tris && a->body_topology == b->topology_id ? 0 : -1;
+}
+
+static void publish(app *a, const tryon_body_t *b, const sim_frame_stats *st, int64_t received)
+{
+    sim_copy_positions(a->sim, a->xyz);
+    int nv = sim_vertex_count(a->sim), nt = sim_triangle_count(a->sim);
+    int with_tris = a->frames_done % a->triangles_every == 0;
+    tryon_cloth_t msg = {
+        .utime_capture = b->utime_capture,
+        .seq = b->seq,
+        .garment_id = a->garment_id,
+        .state = (int8_t)st->state,
+        .max_strain = st->max_strain,
+        .p99_strain = st->p99_strain,
+        .penetrating = st->penetrating,
+        .max_pen_mm = st->max_pen_mm,
+        .topology_id = 1,
+        .num_vertex_coords = nv * 3,
+        .vertices = a->xyz,
+        .num_triangle_indices = with_tris ? nt * 3 : 0,
+        .triangles = with_tris ? (int32_t *)sim_triangles(a->sim) : NULL,
+    };
+    bus_reject why;
+    if (bus_publish(a->lcm, a->channel_cloth, BUS_CLOTH, &msg, &why) != BUS_OK)
+        fprintf(stderr, "tryon-sim: frame %d: CLOTH not sent: %s (%s)\n", b->seq,
+                bus_error_text(why.code), why.detail);
+    bus_timing t;
+    bus_timing_begin(&t, "sim", b->seq, b->utime_capture, received);
+    t.utime_started = received;
+    bus_timing_add(&t, "bvh", st->ms_bvh);
+    bus_timing_add(&t, "feature_points", st->ms_feature_points);
+    bus_timing_add(&t, "contacts", st->ms_contacts);
+    bus_timing_add(&t, "iterations", st->ms_iterations);
+    bus_timing_add(&t, "metrics", st->ms_metrics);
+    bus_timing_publish(a->lcm, &t);
+}
+
+static void on_body(const char *channel, const void *m, void *user)
+{
+    (void)channel;
+    app *a = user;
+    const tryon_body_t *b = m;
+    int64_t received = bus_now_wall_us();
+    if (body_triangles(a, b) < 0) {
+        fprintf(stderr, "tryon-sim: body %d: no triangles for topology %d yet; frame skipped\n",
+                b->seq, b->topology_id);
+        a->skipped++;
+        return;
+    }
+    if (!a->sim && make_sim(a, b) < 0) {
+        stop_requested = 1;
+        return;
+    }
+    sim_frame_stats st;
+    sim_reject why = {0};
+    int r = sim_step(a->sim, b->vertices, b->num_vertex_coords / 3, a->body_tris, a->body_nt, &st,
+                     &why);
+    if (r < 0 && r != -SIM_ERR_DIVERGED) {
+        fprintf(stderr, "tryon-sim: body %d rejected: %s: %s; frame skipped\n", b->seq,
+                sim_error_name(r), why.detail);
+        a->skipped++;
+        return;
+    }
+    if (r == -SIM_ERR_DIVERGED)
+        fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
+                why.detail);
+    publish(a, b, &st, received);
+    a->frames_done++;
+    if (a->frames_wanted > 0 && a->frames_done >= a->frames_wanted)
+        stop_requested = 1;
+}
+
+static int usage(void)
+{
+    fprintf(stderr, "usage: tryon-sim [--backend opencl|c] [--solver tryon|seed] [--garment FILE]"
+                    "\n                 [--verts N] [--iterations K] [--frames N]\n");
+    return 2;
+}
+
+static int parse(app *a, int argc, char **argv)
+{
+    a->desc = sim_default_desc();
+    a->desc.backend = SIM_BACKEND_OPENCL; /* the product runs on the GPU; --backend c falls back */
+    a->verts = 7000;
+    a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!v)
+            return -1;
+        if (!strcmp(o, "--backend") && (!strcmp(v, "c") || !strcmp(v, "opencl")))
+            a->desc.backend = !strcmp(v, "c") ? SIM_BACKEND_C : SIM_BACKEND_OPENCL;
+        else if (!strcmp(o, "--solver") && (!strcmp(v, "seed") || !strcmp(v, "tryon")))
+            a->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
+        else if (!strcmp(o, "--garment"))
+            a->garment_path = v;
+        else if (!strcmp(o, "--verts"))
+            a->verts = atoi(v);
+        else if (!strcmp(o, "--iterations"))
+            a->desc.iterations = atoi(v);
+        else if (!strcmp(o, "--frames"))
+            a->frames_wanted = atoi(v);
+        else
+            return -1;
+        i++;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    app a = {0};
+    if (parse(&a, argc, argv) < 0)
+        return usage();
+    char err[512], channel_body[BUS_CHANNEL_MAX];
+    a.lcm = bus_open(NULL, err, sizeof err);
+    if (!a.lcm) {
+        fprintf(stderr, "tryon-sim: %s\n", err);
+        return 1;
+    }
+    bus_channel(BUS_CHANNEL_BODY, channel_body, sizeof channel_body);
+    bus_channel(BUS_CHANNEL_CLOTH, a.channel_cloth, sizeof a.channel_cloth);
+    bus_sub *sub = bus_subscribe(a.lcm, channel_body, BUS_BODY, on_body, &a);
+    if (!sub) {
+        fprintf(stderr, "tryon-sim: cannot subscribe to %s\n", channel_body);
+        lcm_destroy(a.lcm);
+        return 1;
+    }
+    struct sigaction sa = {.sa_handler = on_signal};
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    fprintf(stderr, "tryon-sim: waiting for %s on %s\n", channel_body, bus_default_url());
+    while (!stop_requested)
+        lcm_handle_timeout(a.lcm, 100);
+    const bus_stats *bs = bus_sub_stats(sub);
+    fprintf(stderr, "tryon-sim: %d frames simulated, %d skipped, %llu BODY messages dropped\n",
+            a.frames_done, a.skipped, (unsigned long long)bs->rejected);
+    int failed = a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim;
+    bus_unsubscribe(a.lcm, sub);
+    lcm_destroy(a.lcm);
+    sim_destroy(a.sim);
+    free(a.body_tris);
+    free(a.xyz);
+    return failed ? 1 : 0;
+}
