@@ -95,7 +95,7 @@ static void test_dump_arrives_frame_exact_at_realtime(void **state)
     for (int k = 1; k < n; k++) {
         double got = (h->depth[k].utime_capture - h->depth[0].utime_capture) * 1e-6;
         double want = k / 30.0;
-        if (got < want - 0.002 || got > want + 0.1)
+        if (got < want - 0.002 || got > want + 0.25)
             fail_msg("frame %d stamped %.4f s after frame 0, recorded %.4f s", k, got, want);
     }
     assert_int_equal(h->timing_count, n);
@@ -116,7 +116,7 @@ static void test_rate_max_is_fast_and_record_reproduces_the_dump(void **state)
         fail_msg("tryon-capture exit %d: %s", rc, h->err_text);
     check_frames_exact(h, n);
     double span = (h->depth[n - 1].utime_capture - h->depth[0].utime_capture) * 1e-6;
-    assert_true(span < 2.0); /* realtime would take 5.5 s */
+    assert_true(span < 3.0); /* realtime would take 5.5 s */
     /* The recording holds the same disparities, timestamps and record times. */
     rec_index a, b;
     rec_report why;
@@ -198,12 +198,12 @@ static void test_lcm_logger_records_the_depth_channel(void **state)
         execlp("lcm-logger", "lcm-logger", url_opt, "-c", chan, "-f", log, (char *)NULL);
         _exit(127);
     }
-    nap_ms(300); /* let the logger subscribe */
+    nap_ms(800); /* let the logger subscribe (generous: a busy machine, a sanitizer build) */
     const char *args[] = {"--uri", h->dir, NULL};
     h_start(h, args);
     assert_int_equal(h_wait(h, 8.0), 0);
     assert_int_equal(h->depth_count, n);
-    nap_ms(300); /* and write what it received */
+    nap_ms(500); /* and write what it received (it flushes every 100 ms) */
     kill(h->logger, SIGINT);
     int status = 0;
     waitpid(h->logger, &status, 0);
