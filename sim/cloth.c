@@ -284,9 +284,19 @@ static int build_tethers(sim_cloth *c)
             }
         }
     }
-    for (int i = 0; i < nv; i++)
-        if (c->tether_anchor[i] == i)
+    /* The anchor is the geodesically nearest attachment; the length the straight rest
+     * distance to it, shorter than the geodesic where the garment wraps the body, so a tether
+     * holds a garment up even where it lies curved around the chest. */
+    for (int i = 0; i < nv; i++) {
+        int a = c->tether_anchor[i];
+        if (a == i) {
             c->tether_anchor[i] = -1; /* the anchors themselves */
+        } else if (a >= 0) {
+            float d[3] = {c->x_rest[i][0] - c->x_rest[a][0], c->x_rest[i][1] - c->x_rest[a][1],
+                          c->x_rest[i][2] - c->x_rest[a][2]};
+            c->tether_len[i] = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+    }
 done:
     free(start);
     free(adj);

@@ -36,7 +36,7 @@ typedef struct sim_cloth {
     int num_attachments;
     sim_attachment *attachments;
     /* Long-range attachments (tethers, Kim et al. 2012): each free vertex may not be farther
-     * from its nearest attached vertex than the rest geodesic distance; -1 = no tether. */
+     * from its (geodesically) nearest attached vertex than it was at rest; -1 = no tether. */
     int32_t *tether_anchor;
     float *tether_len;
 } sim_cloth;
@@ -100,6 +100,7 @@ struct sim {
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
+#define SIM_STRAIN_SWEEPS       8      /* tryon: strain-limit sweeps at the end of each frame */
 #define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
