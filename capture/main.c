@@ -164,7 +164,7 @@ int main(int argc, char **argv)
     lcm_destroy(lcm);
     cap_fakenect_unstage(staged);
     double fps = st.seconds > 0.0 ? (st.frames - 1) / st.seconds : 0.0;
-    if (!o.run.quiet)
+    if (!o.run.quiet && (e == CAP_OK || st.frames > 0))
         fprintf(stderr,
                 "tryon-capture: %d frames in %.3f s (%.1f frames/s), due-to-published lag "
                 "p50 %.3f ms p95 %.3f ms max %.3f ms%s\n",

@@ -41,8 +41,19 @@ static int is_oni_file(const char *uri)
 static cap_error oni_fail(char *err, size_t errlen, cap_error code, const char *what,
                           const char *uri)
 {
-    snprintf(err, errlen, "%s%s%s: %s", what, uri ? " " : "", uri ? uri : "",
-             oniGetExtendedError());
+    /* OpenNI's extended error comes with tabs and newlines: keep it on one line. */
+    char detail[256];
+    snprintf(detail, sizeof detail, "%s", oniGetExtendedError());
+    for (char *c = detail; *c; c++)
+        if (*c == '\t' || *c == '\n' || *c == '\r')
+            *c = ' ';
+    const char *d = detail;
+    while (*d == ' ')
+        d++;
+    size_t n = strlen(d);
+    while (n > 0 && d[n - 1] == ' ')
+        n--;
+    snprintf(err, errlen, "%s%s%s: %.*s", what, uri ? " " : "", uri ? uri : "", (int)n, d);
     return code;
 }
 
