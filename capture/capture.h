@@ -17,7 +17,7 @@
     X(CAP_END, "end of the recording")                                                             \
     X(CAP_ERR_ARG, "invalid argument")                                                             \
     X(CAP_ERR_SOURCE, "unknown source name")                                                       \
-    X(CAP_ERR_RECORDING, "recording is damaged")                                                   \
+    X(CAP_ERR_RECORDING, "recording is missing or damaged")                                        \
     X(CAP_ERR_NOT_FAKENECT, "a dump needs the fakenect libfreenect (run via tryon-capture)")       \
     X(CAP_ERR_NO_DEVICE, "no camera found")                                                        \
     X(CAP_ERR_DEVICE, "camera library call failed")                                                \
