@@ -107,6 +107,15 @@ __kernel void sim_track_contacts(__global const float4 *x, int begin, int end, i
                               radius, contact);
 }
 
+/* Twin of sim_acos (sim/collide.c): Abramowitz & Stegun 4.4.45 from basic operations. */
+float sim_acos(float x)
+{
+    float a = fabs(x);
+    float p = 1.5707288f + a * (-0.2121144f + a * (0.0742610f + a * -0.0187293f));
+    float r = sqrt(1.0f - a) * p;
+    return x >= 0.0f ? r : 3.14159265f - r;
+}
+
 float sim_corner_angle(__global const float4 *v, int4 f, int k)
 {
     int ip = k == 0 ? f.x : (k == 1 ? f.y : f.z);
@@ -115,7 +124,7 @@ float sim_corner_angle(__global const float4 *v, int4 f, int k)
     float4 u = sim_sub3(v[ia], v[ip]), w = sim_sub3(v[ib], v[ip]);
     float cs = sim_dot3(u, w) / sqrt(sim_dot3(u, u) * sim_dot3(w, w));
     cs = cs > 1.0f ? 1.0f : (cs < -1.0f ? -1.0f : cs);
-    return acos(cs);
+    return sim_acos(cs);
 }
 
 /* Baerentzen & Aanaes 2005, twin of sim_collider_pseudo_normal. */

@@ -86,24 +86,45 @@ typedef struct sim_attachment {
     float offset_m;
 } sim_attachment;
 
-/* Attached vertices follow their body triangle; x_prev keeps where they were. */
-__kernel void sim_place_attachments(__global float4 *x, __global float4 *x_prev,
-                                    __global const sim_attachment *at, int n,
-                                    __global const float4 *v, __global const int4 *tris,
-                                    __global const float4 *nrm)
+/* Attached vertices follow their body triangle: from where they are (att_from) to where frame k
+   puts them (att_to), spread over the steps of the frame (sim/solver_c.c attachment_targets,
+   the face normal computed as sim.c body_store does). */
+__kernel void sim_attachment_targets(__global const float4 *x, __global const sim_attachment *at,
+                                     int n, __global const float4 *v, __global const int4 *tris,
+                                     __global float4 *att_from, __global float4 *att_to)
 {
     int a = get_global_id(0);
     if (a >= n)
         return;
     sim_attachment t = at[a];
     int4 f = tris[t.body_triangle];
-    float4 p = x[t.vertex], n4 = nrm[t.body_triangle];
-    float4 v0 = v[f.x], v1 = v[f.y], v2 = v[f.z];
-    x_prev[t.vertex] = (float4)(p.x, p.y, p.z, x_prev[t.vertex].w);
-    x[t.vertex] =
-        (float4)(t.bary[0] * v0.x + t.bary[1] * v1.x + t.bary[2] * v2.x + t.offset_m * n4.x,
-                 t.bary[0] * v0.y + t.bary[1] * v1.y + t.bary[2] * v2.y + t.offset_m * n4.y,
-                 t.bary[0] * v0.z + t.bary[1] * v1.z + t.bary[2] * v2.z + t.offset_m * n4.z, p.w);
+    float4 p0 = v[f.x], p1 = v[f.y], p2 = v[f.z];
+    float e1x = p1.x - p0.x, e1y = p1.y - p0.y, e1z = p1.z - p0.z;
+    float e2x = p2.x - p0.x, e2y = p2.y - p0.y, e2z = p2.z - p0.z;
+    float nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
+    float len = sqrt(nx * nx + ny * ny + nz * nz);
+    float inv = len > 0.0f ? 1.0f / len : 0.0f;
+    nx *= inv;
+    ny *= inv;
+    nz *= inv;
+    float4 xv = x[t.vertex];
+    att_from[a] = (float4)(xv.x, xv.y, xv.z, 0.0f);
+    att_to[a] =
+        (float4)(t.bary[0] * p0.x + t.bary[1] * p1.x + t.bary[2] * p2.x + t.offset_m * nx,
+                 t.bary[0] * p0.y + t.bary[1] * p1.y + t.bary[2] * p2.y + t.offset_m * ny,
+                 t.bary[0] * p0.z + t.bary[1] * p1.z + t.bary[2] * p2.z + t.offset_m * nz, 0.0f);
+}
+
+/* Step it of iters: attached vertex a at the fraction (it + 1) / iters of its way. */
+void sim_place_attachment(__global float4 *x, __global float4 *x_prev,
+                          __global const sim_attachment *at, __global const float4 *att_from,
+                          __global const float4 *att_to, int a, int it, int iters)
+{
+    float u = (float)(it + 1) / (float)iters;
+    int vi = at[a].vertex;
+    float4 p = x[vi], f = att_from[a], t = att_to[a];
+    x_prev[vi] = (float4)(p.x, p.y, p.z, x_prev[vi].w);
+    x[vi] = (float4)(f.x + u * (t.x - f.x), f.y + u * (t.y - f.y), f.z + u * (t.z - f.z), p.w);
 }
 
 /* One pass each, for the twin tests. */
@@ -142,9 +163,10 @@ __kernel void sim_tethers(__global float4 *x, __global const int *anchor, __glob
 }
 
 /* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
-   work-group: contacts every contact_every steps (a full search, or the surface walk of
-   sim_collider_track_contacts when contact_walk is set: whichever the C solver calls), Verlet, XPBD
-   springs colour by colour, tethers, strain limiting colour by colour, collision response. */
+   work-group: contacts refreshed every contact_every steps (0 = never; a full search, or the
+   surface walk of sim_collider_track_contacts when contact_walk is set: whichever the C solver
+   calls), Verlet, attachments, XPBD springs colour by colour, strain limiting colour by colour,
+   then per vertex tethers and collision response. */
 __kernel void sim_iterations_tryon(
     __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
     __global const float *rest, __global const uchar *kind, __global const int *color_start,
@@ -154,15 +176,17 @@ __kernel void sim_iterations_tryon(
     __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
     __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
-    __global int *contact, int contact_walk)
+    __global int *contact, int contact_walk, __global const sim_attachment *att, int natt,
+    __global const float4 *att_from, __global const float4 *att_to)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     for (int it = 0; it < iters; it++) {
+        int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
         for (int i = lid; i < nv; i += L) {
-            if (it > 0 && it % contact_every == 0 && contact_walk) {
+            if (refresh && contact_walk) {
                 sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start,
                                       vt_list, radius, contact);
-            } else if (it > 0 && it % contact_every == 0) {
+            } else if (refresh) {
                 float4 q, bary;
                 float dist;
                 contact[i] = sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius,
@@ -170,22 +194,26 @@ __kernel void sim_iterations_tryon(
             }
             sim_verlet_one(x, x_prev, i, keep, g);
         }
+        /* Attached vertices have w = 0, so Verlet left them alone: no race. */
+        for (int a = lid; a < natt; a += L)
+            sim_place_attachment(x, x_prev, att, att_from, att_to, a, it, iters);
         barrier(CLK_GLOBAL_MEM_FENCE);
         for (int col = 0; col < num_colors; col++) {
             for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
                 sim_project_spring(x, ends, rest, kind, alpha, s);
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
-        for (int i = lid; i < nv; i += L)
-            sim_tether_one(x, tether_anchor, tether_len, i, limit);
-        barrier(CLK_GLOBAL_MEM_FENCE);
+        /* the strain limit after shear and bend, which may stretch what it fixed */
         for (int col = 0; col < num_stretch_colors; col++) {
             for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
                 sim_strain_limit_one(x, ends, rest, kind, s, limit);
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
-        for (int i = lid; i < nv; i += L)
+        /* per vertex: tethers (anchors are attached and do not move), then the contact */
+        for (int i = lid; i < nv; i += L) {
+            sim_tether_one(x, tether_anchor, tether_len, i, limit);
             sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
+        }
         barrier(CLK_GLOBAL_MEM_FENCE);
     }
 }

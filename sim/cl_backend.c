@@ -24,7 +24,7 @@
 typedef struct cl_state {
     sim_cl cl;
     sim_cl_collide g;
-    cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach;
+    cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach, att_from, att_to;
     cl_kernel k_iter, k_attach;
     size_t group;
     int32_t *moved; /* host copy of the per-point flags */
@@ -47,6 +47,10 @@ static void cl_destroy(void *state)
         clReleaseKernel(c->k_iter);
     if (c->k_attach)
         clReleaseKernel(c->k_attach);
+    if (c->att_from)
+        clReleaseMemObject(c->att_from);
+    if (c->att_to)
+        clReleaseMemObject(c->att_to);
     cl_mem ms[] = {c->x,           c->x_prev, c->ends, c->rest,  c->kind,
                    c->color_start, c->anchor, c->tlen, c->attach};
     for (size_t i = 0; i < sizeof ms / sizeof ms[0]; i++)
@@ -122,12 +126,17 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
     free(zero);
     c->attach = const_buffer(&c->cl, (size_t)k->num_attachments * sizeof(sim_attachment),
                              k->attachments, &st);
+    size_t na = k->num_attachments > 0 ? (size_t)k->num_attachments : 1;
+    if (st == CL_SUCCESS)
+        c->att_from = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
+    if (st == CL_SUCCESS)
+        c->att_to = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
     if (st != CL_SUCCESS) {
         snprintf(err, err_size, "OpenCL backend: cloth buffers: %s", sim_cl_status_name(st));
         goto fail;
     }
     if (!(c->k_iter = sim_cl_kernel(&c->cl, "sim_iterations_tryon", err, err_size)) ||
-        !(c->k_attach = sim_cl_kernel(&c->cl, "sim_place_attachments", err, err_size)))
+        !(c->k_attach = sim_cl_kernel(&c->cl, "sim_attachment_targets", err, err_size)))
         goto fail;
     size_t wg = 1;
     st = clGetKernelWorkGroupInfo(c->k_iter, c->cl.device, CL_KERNEL_WORK_GROUP_SIZE, sizeof wg,
@@ -151,22 +160,37 @@ fail:
 
 #define ARG(k, i, v) clSetKernelArg((k), (i), sizeof(v), &(v))
 
+/* Where the attached vertices start and end this frame (attachment_targets in solver_c.c). */
 static cl_int attachments(cl_state *c, const sim_cloth *k)
 {
     if (k->num_attachments == 0)
         return CL_SUCCESS;
     cl_kernel a = c->k_attach;
     cl_int st = ARG(a, 0, c->x);
-    st |= ARG(a, 1, c->x_prev);
-    st |= ARG(a, 2, c->attach);
-    st |= ARG(a, 3, k->num_attachments);
-    st |= ARG(a, 4, c->g.v);
-    st |= ARG(a, 5, c->g.tris);
-    st |= ARG(a, 6, c->g.n);
+    st |= ARG(a, 1, c->attach);
+    st |= ARG(a, 2, k->num_attachments);
+    st |= ARG(a, 3, c->g.v);
+    st |= ARG(a, 4, c->g.tris);
+    st |= ARG(a, 5, c->att_from);
+    st |= ARG(a, 6, c->att_to);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = (size_t)k->num_attachments;
     return clEnqueueNDRangeKernel(c->cl.queue, a, 1, NULL, &global, NULL, 0, NULL, NULL);
+}
+
+/* Twin of frame_travel in sim/solver_c.c: how far the fastest point would go this frame at its
+   current speed. On the host copy, which matches the device: feature points move x and x_prev
+   together, so they do not change it. */
+static float frame_travel(const sim_cloth *c, int iters)
+{
+    float m2 = 0.0f;
+    for (int i = 0; i < c->nv; i++) {
+        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
+                      c->x[i][2] - c->x_prev[i][2]};
+        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    return sqrtf(m2) * (float)iters;
 }
 
 /* Constants exactly as c_frame / iterations_tryon compute them. */
@@ -180,7 +204,8 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     for (int i = 0; i < SIM_SPRING_KINDS; i++)
         alpha.s[i] = k->k[i] > 0.0f ? 1.0f / (k->k[i] * dt * dt) : 1e30f;
     float limit = s->desc.strain_limit;
-    int every = SIM_CONTACT_EVERY;
+    /* contacts refreshed only while the cloth moves fast, as iterations_tryon decides */
+    int every = frame_travel(k, iters) > 0.5f * SIM_CONTACT_MARGIN ? SIM_CONTACT_EVERY : 0;
     const sim_collider *col = s->collider;
     float radius = col->d.thickness_m + col->d.reach_m, h = col->d.thickness_m,
           mu = col->d.friction;
@@ -221,6 +246,10 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 31, c->g.contact);
     int walk = CONTACT_WALK;
     st |= ARG(it, 32, walk);
+    st |= ARG(it, 33, c->attach);
+    st |= ARG(it, 34, k->num_attachments);
+    st |= ARG(it, 35, c->att_from);
+    st |= ARG(it, 36, c->att_to);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

@@ -354,6 +354,17 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
     return had_body ? SIM_COLLIDE_ETOPOLOGY : 0;
 }
 
+/* acos by Abramowitz & Stegun 4.4.45 (error <= 6.7e-5 rad): only + - * / and sqrt, all
+   correctly rounded, so kernels/collide.cl computes the very same bits where a library acos
+   may differ by an ulp (and an ulp in a contact normal grows over the iterations). */
+float sim_acos(float x)
+{
+    float a = fabsf(x);
+    float p = 1.5707288f + a * (-0.2121144f + a * (0.0742610f + a * -0.0187293f));
+    float r = sqrtf(1.0f - a) * p;
+    return x >= 0.0f ? r : 3.14159265f - r;
+}
+
 /* Interior angle of triangle t at its corner k. */
 static float corner_angle(const sim_collider *c, int t, int k)
 {
@@ -364,7 +375,7 @@ static float corner_angle(const sim_collider *c, int t, int k)
     sub3(b, p, w);
     float cs = dot3(u, w) / sqrtf(dot3(u, u) * dot3(w, w));
     cs = cs > 1.0f ? 1.0f : (cs < -1.0f ? -1.0f : cs);
-    return acosf(cs);
+    return sim_acos(cs);
 }
 
 void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3])

@@ -190,6 +190,10 @@ struct sim_collider {
    SIM_REGION_* (not normalised: only its direction is used). */
 void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3]);
 
+/* acos from + - * / and sqrt only (Abramowitz & Stegun 4.4.45, 6.7e-5 rad), bit-equal to its
+   OpenCL twin; angle weights of pseudo-normals. */
+float sim_acos(float x);
+
 /* Signed distance of p to the body through triangle t (its closest point and pseudo-normal). */
 float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3]);
 
