@@ -445,7 +445,7 @@ static float tri_dist2(const sim_collider *c, int t, const float p[3], int *regi
 /* Greedy descent over the body surface from triangle t: while the closest point lies on an edge
    or a vertex, try the triangles around that feature's vertices and move to the nearest. Ends at
    a local minimum of the distance (the global one on a smooth patch). */
-static int walk_nearest(const sim_collider *c, const float p[3], int t, float *d2_out)
+int sim_collider_walk_nearest(const sim_collider *c, const float p[3], int t, float *d2_out)
 {
     int region;
     float d2 = tri_dist2(c, t, p, &region);
@@ -492,7 +492,7 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
         int t = c->contact[i];
         if (t >= 0 && t < c->nt) {
             float d2;
-            t = walk_nearest(c, x[i], t, &d2);
+            t = sim_collider_walk_nearest(c, x[i], t, &d2);
             c->contact[i] = d2 <= reach * reach ? t : -1;
         } else {
             float q[3], bary[3], dist;
@@ -558,33 +558,4 @@ void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[
         if (t >= 0 && x[i][3] != 0.0f)
             resolve_point(c, t, x[i], x_prev[i]);
     }
-}
-
-int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,
-                             int *count, float *max_depth_m)
-{
-    if (!c || (!x && n > 0) || n < 0 || !count || !max_depth_m)
-        return SIM_COLLIDE_EARG;
-    int cnt = 0;
-    float deepest = 0.0f;
-    if (c->nt > 0) {
-        const float(*v)[4] = (const float(*)[4])c->v;
-        const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
-#pragma omp parallel for schedule(static) reduction(+ : cnt) reduction(max : deepest)
-        for (int i = 0; i < n; i++) {
-            float q[3], bary[3], dist;
-            int hint = i < c->max_cloth ? c->contact[i] : -1;
-            int t = sim_bvh_nearest_from(&c->bvh, v, tris, x[i], INFINITY, hint, q, bary, &dist);
-            if (t < 0)
-                continue;
-            float sd = sim_collider_signed_distance(c, t, x[i]);
-            if (sd < -tol_m)
-                cnt++;
-            if (-sd > deepest)
-                deepest = -sd;
-        }
-    }
-    *count = cnt;
-    *max_depth_m = deepest;
-    return 0;
 }

@@ -190,6 +190,14 @@ struct sim_collider {
    SIM_REGION_* (not normalised: only its direction is used). */
 void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3]);
 
+/* Greedy walk over the body surface from triangle t towards p (sim_collider_track_contacts):
+   the locally nearest triangle and its squared distance. */
+int sim_collider_walk_nearest(const sim_collider *c, const float p[3], int t, float *d2_out);
+
+/* The metric the slow way: one unbounded nearest-triangle search per point (for tests). */
+int sim_collider_penetration_exact(const sim_collider *c, const float (*x)[4], int n, float tol_m,
+                                   int *count, float *max_depth_m);
+
 /* acos from + - * / and sqrt only (Abramowitz & Stegun 4.4.45, 6.7e-5 rad), bit-equal to its
    OpenCL twin; angle weights of pseudo-normals. */
 float sim_acos(float x);

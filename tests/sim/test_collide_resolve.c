@@ -247,6 +247,59 @@ static void test_collide_track_contacts_matches_search_on_smooth_body(void **sta
     sim_collider_destroy(c);
 }
 
+/* The fast metric (walk + segment cast) answers exactly as the unbounded search, on a body of two
+   separate spheres with points inside, outside and between them, hints fresh and stale. */
+static void test_collide_penetration_fast_equals_exact(void **state)
+{
+    (void)state;
+    float *a, *b;
+    int32_t *ta, *tb;
+    int na, nta, nb, ntb;
+    tc_sphere(0.2f, 40, 20, &a, &na, &ta, &nta);
+    tc_sphere(0.08f, 24, 12, &b, &nb, &tb, &ntb);
+    int nv = na + nb, nt = nta + ntb;
+    float *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
+    int32_t *tris = malloc((size_t)nt * 3 * sizeof *tris);
+    memcpy(xyz, a, (size_t)na * 3 * sizeof *xyz);
+    for (int i = 0; i < nb; i++) {
+        xyz[3 * (na + i)] = b[3 * i] + 0.3f;
+        xyz[3 * (na + i) + 1] = b[3 * i + 1];
+        xyz[3 * (na + i) + 2] = b[3 * i + 2];
+    }
+    memcpy(tris, ta, (size_t)nta * 3 * sizeof *tris);
+    for (int i = 0; i < 3 * ntb; i++)
+        tris[3 * nta + i] = tb[i] + na;
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    static float x[N][4];
+    uint32_t s = 123u;
+    for (int round = 0; round < 2; round++) {
+        for (int i = 0; i < N; i++) {
+            if (round == 0) {
+                x[i][0] = tc_range(&s, -0.3f, 0.45f);
+                x[i][1] = tc_range(&s, -0.25f, 0.25f);
+                x[i][2] = tc_range(&s, -0.25f, 0.25f);
+                x[i][3] = 1.0f;
+            } else {
+                for (int k = 0; k < 3; k++) /* stale hints: the points moved after the search */
+                    x[i][k] += tc_range(&s, -0.02f, 0.02f);
+            }
+        }
+        if (round == 0)
+            sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+        int cf, ce;
+        float df, de;
+        assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, N, 0.001f, &cf, &df), 0);
+        assert_int_equal(
+            sim_collider_penetration_exact(c, (const float(*)[4])x, N, 0.001f, &ce, &de), 0);
+        assert_true(ce > 20);
+        assert_int_equal(cf, ce);
+        assert_float_equal(df, de, 1e-6f);
+    }
+    free(a), free(b), free(ta), free(tb), free(xyz), free(tris);
+    sim_collider_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -255,6 +308,7 @@ int main(void)
         cmocka_unit_test(test_collide_penetration_matches_analytic_sphere),
         cmocka_unit_test(test_collide_resolve_clears_sphere_shell),
         cmocka_unit_test(test_collide_track_contacts_matches_search_on_smooth_body),
+        cmocka_unit_test(test_collide_penetration_fast_equals_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,194 @@
+/* The penetration metric: cloth points more than tol inside the body, by signed distance with
+ * angle-weighted pseudo-normals (Baerentzen & Aanaes 2005).
+ *
+ * Exact, and cheap for the usual point: from the point's cached contact, walk over the surface to
+ * the locally nearest point q (sim_collider_walk_nearest). If p lies on the outer side there, p is
+ * outside the body unless the segment p -> q crosses the surface: a closed surface separates
+ * inside from outside, and just short of q the segment is outside. So only a segment cast through
+ * the tree is needed (a thin line touches few boxes); when it hits anything, or p is on the
+ * inner side, the unbounded nearest search decides. A point without a contact is far from the
+ * surface: the parity of the crossings of a vertical segment to above the body tells outside
+ * (even) from inside; an odd count, or a crossing too near an edge to count, goes to the exact
+ * search. sim_collider_penetration_exact does the unbounded search for every point. */
+#include <math.h>
+
+#include "collide.h"
+
+/* Hits this close to q (as a fraction of |p - q|) are the surface at q itself. */
+#define SEG_END 0.999f
+/* Barycentric slack: a segment through a shared edge counts as a hit on both sides. */
+#define SEG_SLACK 1e-5f
+/* Box slack for the segment's traversal, metres: above float rounding of a 2 m scene. */
+#define SEG_BOX_PAD 1e-6f
+#define SEG_STACK   96
+
+static void sub3(const float *a, const float *b, float *o)
+{
+    o[0] = a[0] - b[0];
+    o[1] = a[1] - b[1];
+    o[2] = a[2] - b[2];
+}
+
+static float dot3(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const float *a, const float *b, float *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Segment o + t d, t in [0, tmax], against triangle (a, b, c) (Moeller & Trumbore 1997): 0 no hit,
+   1 a clear hit, 2 a hit within slack of an edge or end (a vertex or edge crossing may count
+   twice or not at all: the caller then asks the exact search). A segment in the triangle's plane
+   is no hit: it cannot change sides without crossing a neighbour. */
+static int segment_hits(const float o[3], const float d[3], float tmax, const float *a,
+                        const float *b, const float *c)
+{
+    float e1[3], e2[3], pv[3], tv[3], qv[3];
+    sub3(b, a, e1);
+    sub3(c, a, e2);
+    cross3(d, e2, pv);
+    float det = dot3(e1, pv);
+    if (det == 0.0f)
+        return 0;
+    float inv = 1.0f / det;
+    sub3(o, a, tv);
+    float u = dot3(tv, pv) * inv;
+    if (u < -SEG_SLACK || u > 1.0f + SEG_SLACK)
+        return 0;
+    cross3(tv, e1, qv);
+    float v = dot3(d, qv) * inv;
+    if (v < -SEG_SLACK || u + v > 1.0f + SEG_SLACK)
+        return 0;
+    float t = dot3(e2, qv) * inv;
+    if (t < -SEG_SLACK || t > tmax + SEG_SLACK)
+        return 0;
+    int clear = u > SEG_SLACK && v > SEG_SLACK && u + v < 1.0f - SEG_SLACK && t > SEG_SLACK &&
+                t < tmax - SEG_SLACK;
+    return clear ? 1 : 2;
+}
+
+static int segment_box(const float o[3], const float d[3], float tmax, const float *lo,
+                       const float *hi)
+{
+    float t0 = 0.0f, t1 = tmax;
+    for (int k = 0; k < 3; k++) {
+        float l = lo[k] - SEG_BOX_PAD, h = hi[k] + SEG_BOX_PAD;
+        if (d[k] == 0.0f) {
+            if (o[k] < l || o[k] > h)
+                return 0;
+            continue;
+        }
+        float a = (l - o[k]) / d[k], b = (h - o[k]) / d[k];
+        if (a > b) {
+            float s = a;
+            a = b;
+            b = s;
+        }
+        t0 = a > t0 ? a : t0;
+        t1 = b < t1 ? b : t1;
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* Crossings of the segment p -> p + tmax d with the body: their number, or -1 when one of them
+   is too close to an edge or an end to count reliably. */
+static int segment_crossings(const sim_collider *c, const float p[3], const float d[3], float tmax)
+{
+    const sim_bvh *b = &c->bvh;
+    int stack[SEG_STACK], top = 0, n = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (!segment_box(p, d, tmax, b->lo[node], b->hi[node]))
+            continue;
+        int leaf = b->n == 1 ? 0 : (node >= b->n - 1 ? node - (b->n - 1) : -1);
+        if (leaf >= 0) {
+            const int32_t *f = c->tris[b->order[leaf]];
+            int h = segment_hits(p, d, tmax, c->v[f[0]], c->v[f[1]], c->v[f[2]]);
+            if (h == 2)
+                return -1;
+            n += h;
+            continue;
+        }
+        if (top + 2 > SEG_STACK)
+            return -1; /* cannot happen; "unsure" lets the exact search decide */
+        stack[top++] = b->child[node][1];
+        stack[top++] = b->child[node][0];
+    }
+    return n;
+}
+
+/* Signed distance of p through the unbounded nearest search; +inf with no body. */
+static float exact_sd(const sim_collider *c, const float p[3], int hint)
+{
+    float q[3], bary[3], dist;
+    int t = sim_bvh_nearest_from(&c->bvh, (const float(*)[4])c->v, (const int32_t(*)[4])c->tris, p,
+                                 INFINITY, hint, q, bary, &dist);
+    return t < 0 ? INFINITY : sim_collider_signed_distance(c, t, p);
+}
+
+/* Signed distance of p when it is inside; some positive number when it is outside. */
+static float fast_sd(const sim_collider *c, const float p[3], int hint)
+{
+    if (hint < 0 || hint >= c->nt) {
+        /* No contact: p is far from the surface. Count crossings straight up to above the body:
+           even = outside. */
+        float d[3] = {0.0f, c->bvh.hi[0][1] + 0.01f - p[1], 0.0f};
+        if (!(d[1] > 0.0f))
+            return INFINITY; /* above the body's box */
+        int n = segment_crossings(c, p, d, 1.0f);
+        return n >= 0 && n % 2 == 0 ? INFINITY : exact_sd(c, p, hint);
+    }
+    float d2;
+    int t = sim_collider_walk_nearest(c, p, hint, &d2);
+    float sd = sim_collider_signed_distance(c, t, p);
+    if (!(sd > 0.0f))
+        return exact_sd(c, p, t);
+    float q[3], bary[3], d[3];
+    const int32_t *f = c->tris[t];
+    sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    sub3(q, p, d);
+    return segment_crossings(c, p, d, SEG_END) == 0 ? sd : exact_sd(c, p, t);
+}
+
+static int metric(const sim_collider *c, const float (*x)[4], int n, float tol_m, int exact,
+                  int *count, float *max_depth_m)
+{
+    if (!c || (!x && n > 0) || n < 0 || !count || !max_depth_m)
+        return SIM_COLLIDE_EARG;
+    int cnt = 0;
+    float deepest = 0.0f;
+    if (c->nt > 0) {
+#pragma omp parallel for schedule(static) reduction(+ : cnt) reduction(max : deepest)
+        for (int i = 0; i < n; i++) {
+            int hint = i < c->max_cloth ? c->contact[i] : -1;
+            float sd = exact ? exact_sd(c, x[i], hint) : fast_sd(c, x[i], hint);
+            if (sd < -tol_m)
+                cnt++;
+            if (-sd > deepest)
+                deepest = -sd;
+        }
+    }
+    *count = cnt;
+    *max_depth_m = deepest;
+    return 0;
+}
+
+int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,
+                             int *count, float *max_depth_m)
+{
+    return metric(c, x, n, tol_m, 0, count, max_depth_m);
+}
+
+int sim_collider_penetration_exact(const sim_collider *c, const float (*x)[4], int n, float tol_m,
+                                   int *count, float *max_depth_m)
+{
+    return metric(c, x, n, tol_m, 1, count, max_depth_m);
+}
