@@ -16,8 +16,8 @@
 #include "sim_test_util.h"
 
 /* Update only for an intended change of the solver, with the reason in the commit. */
-#define GOLDEN_C_TRYON 0x57e1e594u
-#define GOLDEN_C_SEED  0xdd466a7cu
+#define GOLDEN_C_TRYON 0xc053837du
+#define GOLDEN_C_SEED  0xcef7b6a0u
 
 static uint32_t fnv1a(const void *p, size_t n, uint32_t h)
 {

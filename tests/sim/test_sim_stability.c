@@ -12,7 +12,7 @@
 
 #include "sim_test_util.h"
 
-#define STAB_N 12 /* 12 x 12 sheet of 0.5 m */
+#define STAB_N 8 /* 8 x 8 sheet of 0.5 m */
 
 /* A sheet whose top row hangs from a bar: the bar's two triangles, moved and turned by the
  * caller each frame. */
@@ -115,13 +115,13 @@ static void test_sim_random_start_recovers(void **state)
             int32_t tri[3] = {0, 1, 2};
             sim_frame_stats st = {0};
             int bad = 0;
-            for (int f = 0; f < 60; f++) {
+            for (int f = 0; f < 40; f++) {
                 int r = sim_step(s, far, 3, tri, 1, &st, NULL);
                 bad += r < 0;
                 assert_true(simt_all_finite(s));
             }
             printf("# %s/%d random start: strain %.3f p99 %.3f after 1 frame, %.3f %.3f after "
-                   "2 s, %d bad frames\n",
+                   "40 frames, %d bad frames\n",
                    simt_backend_name(bs[k]), solver, mx0, p990, st.max_strain, st.p99_strain, bad);
             /* untangled: springs back near rest (the seed's Provot bound is 10 %) */
             assert_true(st.p99_strain < (solver == SIM_SOLVER_SEED ? 0.12f : 0.05f));
@@ -140,10 +140,10 @@ static void test_sim_pulled_sheet_stays_bounded(void **state)
     (void)state;
     sim_backend bs[2];
     int n = simt_backends(bs);
-    const float speeds[] = {0.5f, 2.0f, 8.0f};
+    const float speeds[] = {0.5f, 8.0f};
     for (int k = 0; k < n; k++) {
         for (int solver = 0; solver < solver_count(bs[k]); solver++) {
-            for (int v = 0; v < 3; v++) {
+            for (int v = 0; v < 2; v++) {
                 sim *s = hanging_sheet(bs[k], (sim_solver)solver);
                 assert_non_null(s);
                 bar b;
@@ -177,8 +177,8 @@ static void test_sim_half_turn_twist_stays_bounded(void **state)
             assert_non_null(s);
             bar b;
             sim_frame_stats st = {0};
-            for (int f = 0; f < 45; f++) {
-                float a = 3.14159265f * fminf((float)f / 30.0f, 1.0f);
+            for (int f = 0; f < 36; f++) {
+                float a = 3.14159265f * fminf((float)f / 24.0f, 1.0f);
                 bar_place(&b, 0.0f, 1.0f, 0.0f, a);
                 sim_step(s, b.v, 4, b.tris, 2, &st, NULL);
                 assert_bounded(s, &st);

@@ -1,0 +1,99 @@
+#!/bin/sh
+# The sim figures in docs/sim.md: runs tryon-bench-sim, keeps each final JSON line in
+# $OUT/*.jsonl, and draws docs/figures/sim_*.png with gnuplot.
+# usage: docs/figures/sim_figures.sh BUILD_DIR   (e.g. build-sima)
+set -eu
+B=${1:-build-sima}
+BENCH=$B/sim/tryon-bench-sim
+OUT=$B/sim-figures
+FIG=$(dirname "$0")
+mkdir -p "$OUT"
+run() { "$BENCH" --cache-dir "$OUT" "$@" | tail -n 1; }
+
+# 1. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (480)
+: > "$OUT/iters.jsonl"
+for it in 5 10 15 25 40 60; do
+  for s in tryon seed; do
+    run --scene body --verts 7000 --frames 150 --iterations $it --ref-iterations 480 \
+        --solver $s --backend c >> "$OUT/iters.jsonl"
+  done
+  run --scene body --verts 7000 --frames 150 --iterations $it --ref-iterations 480 \
+      --solver tryon --backend opencl >> "$OUT/iters.jsonl" || true
+done
+
+# 2. vertices 2K..30K, drape scene (3 s), 25 iterations
+: > "$OUT/verts.jsonl"
+for n in 2000 4000 7056 15000 30000; do
+  for s in tryon seed; do
+    run --scene drape --verts $n --iterations 25 --solver $s --backend c >> "$OUT/verts.jsonl"
+  done
+  run --scene drape --verts $n --iterations 25 --solver tryon --backend opencl \
+      >> "$OUT/verts.jsonl" || true
+done
+
+# 3. stability map: drape, 1,024 vertices, 1 s; step size (iterations) x stretch stiffness
+: > "$OUT/stability.jsonl"
+for s in tryon seed; do
+  for it in 5 10 25 50; do
+    for k in 100 1000 10000 100000 1000000; do
+      run --scene drape --verts 1024 --frames 30 --iterations $it --stretch $k --solver $s \
+          --backend c --no-ref >> "$OUT/stability.jsonl"
+    done
+  done
+done
+
+# 4. the headline: body scene, all motions (15 s), 7,000 vertices, 25 iterations
+: > "$OUT/body.jsonl"
+run --scene body --verts 7000 --iterations 25 --solver tryon --backend c >> "$OUT/body.jsonl"
+run --scene body --verts 7000 --iterations 25 --solver tryon --backend opencl \
+    >> "$OUT/body.jsonl" || true
+run --scene body --verts 7000 --frames 150 --iterations 25 --solver seed --backend c \
+    >> "$OUT/body.jsonl"
+
+# jsonl -> whitespace tables for gnuplot
+python3 - "$OUT" <<'PY'
+import json, sys, os
+out = sys.argv[1]
+def rows(name):
+    return [json.loads(l) for l in open(os.path.join(out, name)) if l.startswith('{')]
+for name, key in (('iters.jsonl', 'iterations'), ('verts.jsonl', 'verts')):
+    groups = {}
+    for r in rows(name):
+        groups.setdefault(r['solver'] + '-' + r['backend'], []).append(r)
+    for g, rs in groups.items():
+        with open(os.path.join(out, name.split('.')[0] + '-' + g + '.dat'), 'w') as f:
+            for r in sorted(rs, key=lambda r: r[key]):
+                f.write('%d %.3f %.3f %.5f %.5f %.2f\n' % (r[key], r['ms_median'],
+                        r['ms_median_no_metrics'], r['max_strain'], r['p99_strain'],
+                        r['cloth_error_mm']))
+with open(os.path.join(out, 'stability.txt'), 'w') as f:
+    for r in rows('stability.jsonl'):
+        f.write('%s %d %g %d %d %.4f\n' % (r['solver'], r['iterations'], r['stretch_n_m'],
+                r['diverged_frames'], r['recovered_frames'], r['max_strain']))
+PY
+
+gnuplot <<GP
+set terminal pngcairo size 900,420 font ",10"
+set key outside
+set grid
+set output "$FIG/sim_iterations.png"
+set multiplot layout 1,2 title "body scene, 7,000 vertices: iterations 5..60 (labels)"
+set xlabel "ms per frame (median, all work)"
+set ylabel "cloth error, mm (RMS to 480-iteration reference)"
+plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:6 w lp t g, \
+     "$OUT/iters-tryon-c.dat" u 2:6:1 w labels offset 1,0.5 notitle
+set ylabel "max stretch strain after 1 s"
+plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:4 w lp t g
+unset multiplot
+set output "$FIG/sim_vertices.png"
+set multiplot layout 1,2 title "drape scene, 25 iterations: 2K..30K vertices"
+set logscale xy
+set xlabel "vertices"
+set ylabel "ms per frame (median)"
+plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/verts-".g.".dat" u 1:2 w lp t g
+unset logscale y
+set ylabel "cloth error, mm"
+plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/verts-".g.".dat" u 1:6 w lp t g
+unset multiplot
+GP
+echo "figures in $FIG, data in $OUT"
