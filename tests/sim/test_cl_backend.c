@@ -1,12 +1,13 @@
 /* The OpenCL backend agrees with the C reference: the same drape sheet falling on a sphere that
  * rises through it (feature points, contacts, friction, springs, strain limiting, one vertex
- * attached to the sphere), run with both
- * backends from sim_create. Skipped when no OpenCL device exists.
+ * attached to the sphere), run with both backends from sim_create. Skipped when no OpenCL device
+ * exists.
  *
  * Tolerance: both run the same float operations in the same order (fma contraction off,
- * correctly rounded divide and sqrt), but acos in vertex pseudo-normals and the OpenMP split of
- * the C side can differ by an ulp, and Gauss-Seidel over 25 x FRAMES steps can grow that. 0.1 mm
- * is 1/40 of the cloth thickness: far below anything visible, far above rounding. */
+ * correctly rounded divide and sqrt, acos from basic operations), and on PoCL they agree bit for
+ * bit. A GPU's compiler may still order a reduction or a library call differently, and contacts
+ * turn an ulp into a different branch; 0.1 mm is 1/40 of the cloth thickness: far below anything
+ * visible, far above rounding. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -21,7 +22,7 @@
 #include "sim.h"
 #include "test_collide_util.h"
 
-#define FRAMES    12
+#define FRAMES    8
 #define AGREE_TOL 1e-4f
 
 static int have_device(void)
@@ -58,7 +59,7 @@ static void test_cl_backend_agrees_with_c(void **state)
         skip();
     sim_garment g;
     memset(&g, 0, sizeof g);
-    assert_int_equal(sim_garment_drape(900, 0.8f, 0.25f, &g), 0);
+    assert_int_equal(sim_garment_drape(400, 0.8f, 0.25f, &g), 0);
     float *xyz, *moved;
     int32_t *tris;
     int nv, nt;
@@ -67,7 +68,7 @@ static void test_cl_backend_agrees_with_c(void **state)
     /* One vertex near the sheet's centre glued 4 cm above the sphere's cap: the attachment
        path (targets, placement spread over the steps) runs on both backends. */
     sim_attachment glue = {
-        .vertex = 465, .body_triangle = 0, .bary = {0.34f, 0.33f, 0.33f}, .offset_m = 0.04f};
+        .vertex = 210, .body_triangle = 0, .bary = {0.34f, 0.33f, 0.33f}, .offset_m = 0.04f};
     g.num_attachments = 1;
     g.attachments = &glue;
     sim *sc = make(SIM_BACKEND_C, &g), *so = make(SIM_BACKEND_OPENCL, &g);
