@@ -12,10 +12,7 @@ __kernel void sim_find_contacts(__global const float4 *x, int begin, int end, in
     int i = begin + (int)get_global_id(0);
     if (i >= end)
         return;
-    float4 q, bary;
-    float dist;
-    contact[i] =
-        sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius, &q, &bary, &dist);
+    contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
 }
 
 /* Squared distance from p to triangle t and the region of its closest point. */
@@ -87,10 +84,7 @@ void sim_track_contact_one(__global const float4 *x, int i, int nleaves, __globa
         t = sim_walk_nearest(v, tris, vt_start, vt_list, x[i], t, &d2);
         contact[i] = d2 <= radius * radius ? t : -1;
     } else {
-        float4 q, bary;
-        float dist;
-        contact[i] =
-            sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius, &q, &bary, &dist);
+        contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
     }
 }
 

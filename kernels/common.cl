@@ -161,3 +161,113 @@ int sim_bvh_nearest(int n, __global const int2 *child, __global const int *order
         *dist = sqrt(best_d2);
     return best;
 }
+
+/* Twins of the segment cast in sim/penetration.c: "is p clearly outside the body?" by the parity
+   of the crossings of a vertical segment to above the body. */
+#define SEG_SLACK   1e-5f
+#define SEG_BOX_PAD 1e-6f
+
+int sim_segment_hits(float4 o, float4 d, float tmax, float4 a, float4 b, float4 c)
+{
+    float4 e1 = sim_sub3(b, a), e2 = sim_sub3(c, a);
+    float4 pv = sim_cross3(d, e2);
+    float det = sim_dot3(e1, pv);
+    if (det == 0.0f)
+        return 0;
+    float inv = 1.0f / det;
+    float4 tv = sim_sub3(o, a);
+    float u = sim_dot3(tv, pv) * inv;
+    if (u < -SEG_SLACK || u > 1.0f + SEG_SLACK)
+        return 0;
+    float4 qv = sim_cross3(tv, e1);
+    float v = sim_dot3(d, qv) * inv;
+    if (v < -SEG_SLACK || u + v > 1.0f + SEG_SLACK)
+        return 0;
+    float t = sim_dot3(e2, qv) * inv;
+    if (t < -SEG_SLACK || t > tmax + SEG_SLACK)
+        return 0;
+    int clear = u > SEG_SLACK && v > SEG_SLACK && u + v < 1.0f - SEG_SLACK && t > SEG_SLACK &&
+                t < tmax - SEG_SLACK;
+    return clear ? 1 : 2;
+}
+
+int sim_segment_box(float4 o4, float4 d4, float tmax, float4 lo4, float4 hi4)
+{
+    float o[3] = {o4.x, o4.y, o4.z}, d[3] = {d4.x, d4.y, d4.z};
+    float lo[3] = {lo4.x, lo4.y, lo4.z}, hi[3] = {hi4.x, hi4.y, hi4.z};
+    float t0 = 0.0f, t1 = tmax;
+    for (int k = 0; k < 3; k++) {
+        float l = lo[k] - SEG_BOX_PAD, h = hi[k] + SEG_BOX_PAD;
+        if (d[k] == 0.0f) {
+            if (o[k] < l || o[k] > h)
+                return 0;
+            continue;
+        }
+        float a = (l - o[k]) / d[k], b = (h - o[k]) / d[k];
+        if (a > b) {
+            float s = a;
+            a = b;
+            b = s;
+        }
+        t0 = a > t0 ? a : t0;
+        t1 = b < t1 ? b : t1;
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* Crossings of p -> p + tmax d with the body, -1 when one is too near an edge to count. */
+int sim_segment_crossings(int n, __global const int2 *child, __global const int *order,
+                          __global const float4 *lo, __global const float4 *hi,
+                          __global const float4 *v, __global const int4 *tris, float4 p, float4 d,
+                          float tmax)
+{
+    int stack[BVH_STACK], top = 0, count = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (!sim_segment_box(p, d, tmax, lo[node], hi[node]))
+            continue;
+        int leaf = sim_bvh_leaf_of(n, node);
+        if (leaf >= 0) {
+            int4 f = tris[order[leaf]];
+            int h = sim_segment_hits(p, d, tmax, v[f.x], v[f.y], v[f.z]);
+            if (h == 2)
+                return -1;
+            count += h;
+            continue;
+        }
+        if (top + 2 > BVH_STACK)
+            return -1;
+        stack[top++] = child[node].y;
+        stack[top++] = child[node].x;
+    }
+    return count;
+}
+
+/* Twin of sim_collider_clearly_outside. */
+int sim_clearly_outside(int n, __global const int2 *child, __global const int *order,
+                        __global const float4 *lo, __global const float4 *hi,
+                        __global const float4 *v, __global const int4 *tris, float4 p)
+{
+    float4 d = (float4)(0.0f, hi[0].y + 0.01f - p.y, 0.0f, 0.0f);
+    if (!(d.y > 0.0f))
+        return 1;
+    int c = sim_segment_crossings(n, child, order, lo, hi, v, tris, p, d, 1.0f);
+    return c >= 0 && c % 2 == 0;
+}
+
+/* Twin of the contact search of sim_collider_find_contacts: within radius, or, for a point that
+   is not clearly outside (it may be deep inside), at any distance. */
+int sim_contact_search(int n, __global const int2 *child, __global const int *order,
+                       __global const float4 *lo, __global const float4 *hi,
+                       __global const float4 *v, __global const int4 *tris, float4 p, float radius)
+{
+    float4 q, bary;
+    float dist;
+    int t = sim_bvh_nearest(n, child, order, lo, hi, v, tris, p, radius, &q, &bary, &dist);
+    if (t < 0 && n > 0 && !sim_clearly_outside(n, child, order, lo, hi, v, tris, p))
+        t = sim_bvh_nearest(n, child, order, lo, hi, v, tris, p, INFINITY, &q, &bary, &dist);
+    return t;
+}

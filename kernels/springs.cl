@@ -187,10 +187,8 @@ __kernel void sim_iterations_tryon(
                 sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start,
                                       vt_list, radius, contact);
             } else if (refresh) {
-                float4 q, bary;
-                float dist;
-                contact[i] = sim_bvh_nearest(nleaves, child, order, lo, hi, v, tris, x[i], radius,
-                                             &q, &bary, &dist);
+                contact[i] =
+                    sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
             }
             sim_verlet_one(x, x_prev, i, keep, g);
         }

@@ -426,9 +426,13 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
 #pragma omp parallel for schedule(static)
     for (int i = begin; i < end; i++) {
         float q[3], bary[3], dist;
-        c->contact[i] = c->nt > 0 ? sim_bvh_nearest_from(&c->bvh, v, tris, x[i], reach,
-                                                         c->contact[i], q, bary, &dist)
-                                  : -1;
+        int t = c->nt > 0 ? sim_bvh_nearest_from(&c->bvh, v, tris, x[i], reach, c->contact[i], q,
+                                                 bary, &dist)
+                          : -1;
+        /* none within reach: far outside, or deep inside (then the nearest at any distance) */
+        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
+            t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+        c->contact[i] = t;
     }
 }
 
@@ -496,7 +500,10 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
             c->contact[i] = d2 <= reach * reach ? t : -1;
         } else {
             float q[3], bary[3], dist;
-            c->contact[i] = sim_bvh_nearest(&c->bvh, v, tris, x[i], reach, q, bary, &dist);
+            t = sim_bvh_nearest(&c->bvh, v, tris, x[i], reach, q, bary, &dist);
+            if (t < 0 && !sim_collider_clearly_outside(c, x[i]))
+                t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+            c->contact[i] = t;
         }
     }
 }

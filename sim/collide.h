@@ -68,8 +68,9 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
                                 int end);
 
 /* Find the nearest body triangle within thickness + reach for each point in [begin, end) and
-   cache it (-1: none). Points at or beyond the cache size (max_cloth, or sim_collider_reserve)
-   are ignored. */
+   cache it; a point with none there that is not clearly outside (it may be deep inside) gets the
+   nearest triangle at any distance, so the response pushes it out; -1: none. Points at or beyond
+   the cache size (max_cloth, or sim_collider_reserve) are ignored. */
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
 
 /* Cheap refresh between searches: from each cached triangle, walk over the body surface to the
@@ -193,6 +194,10 @@ void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float 
 /* Greedy walk over the body surface from triangle t towards p (sim_collider_track_contacts):
    the locally nearest triangle and its squared distance. */
 int sim_collider_walk_nearest(const sim_collider *c, const float p[3], int t, float *d2_out);
+
+/* Is p outside the body for sure? Parity of the crossings of a vertical segment from p to above
+   the body (0 when a crossing is too near an edge to count: unsure). */
+int sim_collider_clearly_outside(const sim_collider *c, const float p[3]);
 
 /* The metric the slow way: one unbounded nearest-triangle search per point (for tests). */
 int sim_collider_penetration_exact(const sim_collider *c, const float (*x)[4], int n, float tol_m,

@@ -125,6 +125,15 @@ static int segment_crossings(const sim_collider *c, const float p[3], const floa
     return n;
 }
 
+int sim_collider_clearly_outside(const sim_collider *c, const float p[3])
+{
+    float d[3] = {0.0f, c->bvh.hi[0][1] + 0.01f - p[1], 0.0f};
+    if (!(d[1] > 0.0f))
+        return 1; /* above the body's box */
+    int n = segment_crossings(c, p, d, 1.0f);
+    return n >= 0 && n % 2 == 0;
+}
+
 /* Signed distance of p through the unbounded nearest search; +inf with no body. */
 static float exact_sd(const sim_collider *c, const float p[3], int hint)
 {
@@ -137,15 +146,8 @@ static float exact_sd(const sim_collider *c, const float p[3], int hint)
 /* Signed distance of p when it is inside; some positive number when it is outside. */
 static float fast_sd(const sim_collider *c, const float p[3], int hint)
 {
-    if (hint < 0 || hint >= c->nt) {
-        /* No contact: p is far from the surface. Count crossings straight up to above the body:
-           even = outside. */
-        float d[3] = {0.0f, c->bvh.hi[0][1] + 0.01f - p[1], 0.0f};
-        if (!(d[1] > 0.0f))
-            return INFINITY; /* above the body's box */
-        int n = segment_crossings(c, p, d, 1.0f);
-        return n >= 0 && n % 2 == 0 ? INFINITY : exact_sd(c, p, hint);
-    }
+    if (hint < 0 || hint >= c->nt) /* no contact: p is far from the surface */
+        return sim_collider_clearly_outside(c, p) ? INFINITY : exact_sd(c, p, hint);
     float d2;
     int t = sim_collider_walk_nearest(c, p, hint, &d2);
     float sd = sim_collider_signed_distance(c, t, p);

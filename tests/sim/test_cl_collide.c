@@ -75,7 +75,8 @@ static int setup(void **state)
                 d[k] = tc_range(&s, -1.0f, 1.0f);
             len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         } while (len < 0.1f || len > 1.0f);
-        float r = tc_range(&s, 0.195f, 0.26f);
+        /* every tenth point deep inside, beyond reach of the surface */
+        float r = i % 10 == 5 ? tc_range(&s, 0.03f, 0.15f) : tc_range(&s, 0.195f, 0.26f);
         for (int k = 0; k < 3; k++)
             f.hx[i][k] = d[k] / len * r;
         f.hx[i][3] = i % 50 == 0 ? 0.0f : 1.0f;

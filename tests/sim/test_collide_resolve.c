@@ -300,6 +300,38 @@ static void test_collide_penetration_fast_equals_exact(void **state)
     sim_collider_destroy(c);
 }
 
+/* A point deeper inside than thickness + reach still gets a contact (the nearest triangle at any
+   distance) and the response brings it out; a point far outside gets none. */
+static void test_collide_deep_points_are_pushed_out(void **state)
+{
+    (void)state;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    tc_sphere(0.2f, 32, 16, &xyz, &nv, &tris, &nt);
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    float x[4][4] = {{0.05f, 0.02f, 0.01f, 1},
+                     {-0.1f, 0.03f, 0.05f, 1},
+                     {0.6f, 0.1f, 0.0f, 1},
+                     {0.0137f, -0.5f, 0.0713f, 1}};
+    float xp[4][4];
+    memcpy(xp, x, sizeof x);
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, 4);
+    const int32_t *ct = sim_collider_contacts(c);
+    assert_true(ct[0] >= 0 && ct[1] >= 0);
+    assert_true(ct[2] == -1 && ct[3] == -1);
+    sim_collider_resolve(c, x, xp, 0, 4);
+    int count;
+    float depth;
+    assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, 4, 0.001f, &count, &depth),
+                     0);
+    assert_int_equal(count, 0);
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +341,7 @@ int main(void)
         cmocka_unit_test(test_collide_resolve_clears_sphere_shell),
         cmocka_unit_test(test_collide_track_contacts_matches_search_on_smooth_body),
         cmocka_unit_test(test_collide_penetration_fast_equals_exact),
+        cmocka_unit_test(test_collide_deep_points_are_pushed_out),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
