@@ -36,7 +36,7 @@ static void on_signal(int sig)
     stop = 1;
 }
 
-/* groundtruth.txt: one line per frame, "frame time depth_file gt_file". */
+/* groundtruth.txt: one line per frame, "frame time depth_file gt_file"; '#' comments. */
 static int load_truth(truth *t, const char *dir)
 {
     char path[1024];
@@ -52,6 +52,8 @@ static int load_truth(truth *t, const char *dir)
     for (int lineno = 1; fgets(line, sizeof line, f); lineno++) {
         int frame;
         double time_s;
+        if (line[0] == '#' || line[0] == '\n')
+            continue;
         if (sscanf(line, "%d %lf %255s %255s", &frame, &time_s, depth_file, gt_file) != 4 ||
             frame != t->num_frames) {
             fprintf(stderr, "tryon-truth: %s line %d: expected frame %d: '%s'\n", path, lineno,

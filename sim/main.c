@@ -19,11 +19,26 @@ static void on_signal(int sig)
     stop_requested = 1;
 }
 
+/* The newest body received and not simulated yet. */
+typedef struct pending_body {
+    int have;
+    int32_t seq;
+    int64_t utime_capture, received;
+    int nv, cap;
+    float *xyz; /* [nv][3] */
+    int has_joints;
+    float joints[SIM_MAIN_JOINTS * 3];
+} pending_body;
+
 typedef struct app {
     lcm_t *lcm;
     sim_desc desc;
     const char *garment_path;
     int verts, frames_wanted, frames_done, skipped, triangles_every;
+    int every_body;      /* --queue all: simulate every body; else only the newest one */
+    int bodies_received; /* simulated, superseded or skipped */
+    int superseded;      /* arrived while a newer one was waiting: not simulated */
+    pending_body next;
     sim *sim;
     char garment_id[64];
     int32_t body_topology; /* topology whose triangles we hold */
@@ -33,7 +48,7 @@ typedef struct app {
     char channel_cloth[BUS_CHANNEL_MAX];
 } app;
 
-static int make_sim(app *a, const tryon_body_t *b)
+static int make_sim(app *a, const pending_body *b)
 {
     sim_garment g = {0};
     sim_reject why = {0};
@@ -41,9 +56,8 @@ static int make_sim(app *a, const tryon_body_t *b)
     if (a->garment_path) {
         r = sim_garment_load_obj(a->garment_path, &g, &why);
     } else {
-        const float *joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3 ? b->joints : NULL;
-        r = sim_garment_shirt(b->vertices, b->num_vertex_coords / 3, a->body_tris, a->body_nt,
-                              joints, a->verts, 0.0f, &g, &why);
+        r = sim_garment_shirt(b->xyz, b->nv, a->body_tris, a->body_nt,
+                              b->has_joints ? b->joints : NULL, a->verts, 0.0f, &g, &why);
     }
     if (r < 0) {
         fprintf(stderr, "tryon-sim: garment %s: %s: %s\n",
@@ -88,7 +102,7 @@ static int body_triangles(app *a, const tryon_body_t *b)
     return a->body_tris && a->body_topology == b->topology_id ? 0 : -1;
 }
 
-static void publish(app *a, const tryon_body_t *b, const sim_frame_stats *st, int64_t received)
+static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bus_timing *t)
 {
     sim_copy_positions(a->sim, a->xyz);
     int nv = sim_vertex_count(a->sim), nt = sim_triangle_count(a->sim);
@@ -112,37 +126,67 @@ static void publish(app *a, const tryon_body_t *b, const sim_frame_stats *st, in
     if (bus_publish(a->lcm, a->channel_cloth, BUS_CLOTH, &msg, &why) != BUS_OK)
         fprintf(stderr, "tryon-sim: frame %d: CLOTH not sent: %s (%s)\n", b->seq,
                 bus_error_text(why.code), why.detail);
-    bus_timing t;
-    bus_timing_begin(&t, "sim", b->seq, b->utime_capture, received);
-    t.utime_started = received;
-    bus_timing_add(&t, "bvh", st->ms_bvh);
-    bus_timing_add(&t, "feature_points", st->ms_feature_points);
-    bus_timing_add(&t, "contacts", st->ms_contacts);
-    bus_timing_add(&t, "iterations", st->ms_iterations);
-    bus_timing_add(&t, "metrics", st->ms_metrics);
-    bus_timing_publish(a->lcm, &t);
+    bus_timing_add(t, "bvh", st->ms_bvh);
+    bus_timing_add(t, "feature_points", st->ms_feature_points);
+    bus_timing_add(t, "contacts", st->ms_contacts);
+    bus_timing_add(t, "iterations", st->ms_iterations);
+    bus_timing_add(t, "metrics", st->ms_metrics);
+    bus_timing_publish(a->lcm, t);
 }
 
+/* A body arrives: its triangles are kept at once (a superseded body may carry them), its
+ * vertices wait in a.next for the main loop, replacing an older one still waiting. */
 static void on_body(const char *channel, const void *m, void *user)
 {
     (void)channel;
     app *a = user;
     const tryon_body_t *b = m;
     int64_t received = bus_now_wall_us();
+    a->bodies_received++;
     if (body_triangles(a, b) < 0) {
         fprintf(stderr, "tryon-sim: body %d: no triangles for topology %d yet; frame skipped\n",
                 b->seq, b->topology_id);
         a->skipped++;
         return;
     }
+    pending_body *p = &a->next;
+    int nv = b->num_vertex_coords / 3;
+    if (nv > p->cap) {
+        float *x = realloc(p->xyz, (size_t)nv * 3 * sizeof *x);
+        if (!x) {
+            fprintf(stderr, "tryon-sim: body %d: out of memory for %d vertices; skipped\n", b->seq,
+                    nv);
+            a->skipped++;
+            return;
+        }
+        p->xyz = x;
+        p->cap = nv;
+    }
+    a->superseded += p->have;
+    memcpy(p->xyz, b->vertices, (size_t)nv * 3 * sizeof *p->xyz);
+    p->nv = nv;
+    p->seq = b->seq;
+    p->utime_capture = b->utime_capture;
+    p->received = received;
+    p->has_joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3;
+    if (p->has_joints)
+        memcpy(p->joints, b->joints, sizeof p->joints);
+    p->have = 1;
+}
+
+static void step_body(app *a)
+{
+    pending_body *b = &a->next;
+    b->have = 0;
+    bus_timing t; /* work starts now: the garment is made on the first body */
+    bus_timing_begin(&t, "sim", b->seq, b->utime_capture, b->received);
     if (!a->sim && make_sim(a, b) < 0) {
         stop_requested = 1;
         return;
     }
     sim_frame_stats st;
     sim_reject why = {0};
-    int r = sim_step(a->sim, b->vertices, b->num_vertex_coords / 3, a->body_tris, a->body_nt, &st,
-                     &why);
+    int r = sim_step(a->sim, b->xyz, b->nv, a->body_tris, a->body_nt, &st, &why);
     if (r < 0 && r != -SIM_ERR_DIVERGED) {
         fprintf(stderr, "tryon-sim: body %d rejected: %s: %s; frame skipped\n", b->seq,
                 sim_error_name(r), why.detail);
@@ -152,16 +196,19 @@ static void on_body(const char *channel, const void *m, void *user)
     if (r == -SIM_ERR_DIVERGED)
         fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
                 why.detail);
-    publish(a, b, &st, received);
+    publish(a, b, &st, &t);
     a->frames_done++;
-    if (a->frames_wanted > 0 && a->frames_done >= a->frames_wanted)
-        stop_requested = 1;
 }
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: tryon-sim [--backend opencl|c] [--solver tryon|seed] [--garment FILE]"
-                    "\n                 [--verts N] [--iterations K] [--frames N]\n");
+    fprintf(stderr,
+            "usage: tryon-sim [--backend opencl|c] [--solver tryon|seed] [--garment FILE]\n"
+            "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
+            "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
+            "          newest is simulated and the older ones are counted as superseded, so\n"
+            "          latency stays one frame; all: every body, in order (replays, tests)\n"
+            "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n");
     return 2;
 }
 
@@ -187,6 +234,8 @@ static int parse(app *a, int argc, char **argv)
             a->desc.iterations = atoi(v);
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
+        else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
+            a->every_body = !strcmp(v, "all");
         else
             return -1;
         i++;
@@ -217,16 +266,27 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     fprintf(stderr, "tryon-sim: waiting for %s on %s\n", channel_body, bus_default_url());
-    while (!stop_requested)
-        lcm_handle_timeout(a.lcm, 100);
+    while (!stop_requested) {
+        /* drain what has arrived (latest) or take one body at a time (all) */
+        int r = lcm_handle_timeout(a.lcm, a.next.have ? 0 : 100);
+        if (r > 0 && !a.every_body)
+            continue;
+        if (a.next.have)
+            step_body(&a);
+        if (a.frames_wanted > 0 && a.bodies_received >= a.frames_wanted && !a.next.have)
+            stop_requested = 1;
+    }
     const bus_stats *bs = bus_sub_stats(sub);
-    fprintf(stderr, "tryon-sim: %d frames simulated, %d skipped, %llu BODY messages dropped\n",
-            a.frames_done, a.skipped, (unsigned long long)bs->rejected);
+    fprintf(stderr,
+            "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %llu "
+            "BODY messages dropped\n",
+            a.frames_done, a.superseded, a.skipped, (unsigned long long)bs->rejected);
     int failed = a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim;
     bus_unsubscribe(a.lcm, sub);
     lcm_destroy(a.lcm);
     sim_destroy(a.sim);
     free(a.body_tris);
     free(a.xyz);
+    free(a.next.xyz);
     return failed ? 1 : 0;
 }

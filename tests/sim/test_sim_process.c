@@ -17,7 +17,7 @@
 #include "support.h"
 
 typedef struct counts {
-    int cloth, timing, cloth_with_tris, nv;
+    int cloth, timing, cloth_with_tris, nv, last_seq;
 } counts;
 
 static void on_cloth(const char *ch, const void *m, void *user)
@@ -28,6 +28,7 @@ static void on_cloth(const char *ch, const void *m, void *user)
     n->cloth++;
     n->cloth_with_tris += c->num_triangle_indices > 0;
     n->nv = c->num_vertex_coords / 3;
+    n->last_seq = c->seq;
 }
 
 static void on_timing(const char *ch, const void *m, void *user)
@@ -71,7 +72,7 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     const char *exe = getenv("TRYON_SIM_EXE");
     assert_non_null(exe);
     snprintf(out, sizeof out, "test_sim_process_%s.log", prefix);
-    char *argv[] = {(char *)exe, "--backend", "c", "--verts", "400", NULL};
+    char *argv[] = {(char *)exe, "--backend", "c", "--verts", "400", "--queue", "all", NULL};
     pid_t pid = ts_spawn_out(argv, NULL, out);
     assert_true(pid > 0);
 
@@ -127,10 +128,65 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     lcm_destroy(lcm);
 }
 
+/* --queue latest (the default): a burst of bodies faster than the sim is collapsed to the
+ * newest, so the cloth published last is the last body's and latency does not pile up. */
+static void test_sim_process_latest_body_wins(void **state)
+{
+    (void)state;
+    char url[128], prefix[32], err[512], ch_body[BUS_CHANNEL_MAX], ch_cloth[BUS_CHANNEL_MAX];
+    char out[256];
+    ts_private_bus(url, sizeof url, prefix, sizeof prefix);
+    snprintf(out, sizeof out, "test_sim_process_latest_%s.log", prefix);
+    const char *exe = getenv("TRYON_SIM_EXE");
+    assert_non_null(exe);
+    /* a heavy enough garment that one frame outlasts the burst */
+    char *argv[] = {(char *)exe, "--backend", "c", "--verts", "6000", "--iterations", "60", NULL};
+    pid_t pid = ts_spawn_out(argv, NULL, out);
+    assert_true(pid > 0);
+    lcm_t *lcm = bus_open(NULL, err, sizeof err);
+    if (!lcm)
+        fail_msg("%s", err);
+    bus_channel(BUS_CHANNEL_BODY, ch_body, sizeof ch_body);
+    bus_channel(BUS_CHANNEL_CLOTH, ch_cloth, sizeof ch_cloth);
+    counts n = {.last_seq = -1};
+    bus_sub *sc_cloth = bus_subscribe(lcm, ch_cloth, BUS_CLOTH, on_cloth, &n);
+    float c[3] = {0.0f, 1.2f, 0.0f};
+    sim_scene *sc = sim_scene_sphere(0.15f, c, 300);
+    int seq = 0;
+    for (int tries = 0; n.cloth == 0 && tries < 100; tries++) {
+        send_body(lcm, ch_body, sc, seq++, 0);
+        lcm_handle_timeout(lcm, 100);
+    }
+    assert_true(n.cloth > 0);
+    for (int k = 0; k < 20; k++) /* the bodies queued while the garment was made */
+        lcm_handle_timeout(lcm, 50);
+    int before = n.cloth;
+    const int burst = 30;
+    for (int k = 0; k < burst; k++)
+        send_body(lcm, ch_body, sc, seq++, 0);
+    for (int k = 0; k < 300 && n.last_seq != seq - 1; k++)
+        lcm_handle_timeout(lcm, 100);
+    int status = ts_stop(pid, SIGTERM, 10000);
+    char *log = ts_read_file(out);
+    printf("# burst of %d bodies: %d cloth, last seq %d of %d; log:\n%s", burst, n.cloth - before,
+           n.last_seq, seq - 1, log ? log : "(none)");
+    assert_int_equal(status, 0);
+    assert_int_equal(n.last_seq, seq - 1); /* the newest body was simulated */
+    assert_true(n.cloth - before < burst); /* and not every one before it */
+    assert_non_null(log);
+    assert_null(strstr(log, " 0 superseded"));
+    free(log);
+    remove(out);
+    sim_scene_destroy(sc);
+    bus_unsubscribe(lcm, sc_cloth);
+    lcm_destroy(lcm);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_process_publishes_cloth_and_survives_bad_bodies),
+        cmocka_unit_test(test_sim_process_latest_body_wins),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
