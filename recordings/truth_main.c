@@ -52,7 +52,8 @@ static int load_truth(truth *t, const char *dir)
     for (int lineno = 1; fgets(line, sizeof line, f); lineno++) {
         int frame;
         double time_s;
-        if (line[0] == '#' || line[0] == '\n')
+        line[strcspn(line, "\r\n")] = '\0';
+        if (line[0] == '#' || line[0] == '\0')
             continue;
         if (sscanf(line, "%d %lf %255s %255s", &frame, &time_s, depth_file, gt_file) != 4 ||
             frame != t->num_frames) {
@@ -74,7 +75,7 @@ static int load_truth(truth *t, const char *dir)
         snprintf(gt_path, sizeof gt_path, "%s/%s", dir, gt_file);
         rec_report why;
         if (rec_gt_read(gt_path, &t->gt[t->num_frames], &why) != REC_OK) {
-            fprintf(stderr, "tryon-truth: %s: %s\n", gt_path, why.message);
+            fprintf(stderr, "tryon-truth: %s\n", why.message); /* names the file */
             fclose(f);
             return -1;
         }
@@ -165,6 +166,14 @@ static void on_depth(const char *channel, const void *msg, void *user)
         stop = 1;
 }
 
+/* A positive count, or -1. */
+static int parse_count(const char *s)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    return *s && !*end && v > 0 && v <= 1000000000L ? (int)v : -1;
+}
+
 static void usage(FILE *f)
 {
     fprintf(f, "usage: tryon-truth --recording DIR [--frames N] [--triangles-every N]\n"
@@ -181,15 +190,15 @@ int main(int argc, char **argv)
         if (strcmp(argv[i], "--recording") == 0 && i + 1 < argc)
             dir = argv[++i];
         else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc)
-            t.max_frames = atoi(argv[++i]);
+            t.max_frames = parse_count(argv[++i]);
         else if (strcmp(argv[i], "--triangles-every") == 0 && i + 1 < argc)
-            t.triangles_every = atoi(argv[++i]);
+            t.triangles_every = parse_count(argv[++i]);
         else {
             usage(strcmp(argv[i], "--help") == 0 ? stdout : stderr);
             return strcmp(argv[i], "--help") == 0 ? 0 : 2;
         }
     }
-    if (!dir || t.triangles_every < 1) {
+    if (!dir || t.triangles_every < 1 || t.max_frames < 0) {
         usage(stderr);
         return 2;
     }

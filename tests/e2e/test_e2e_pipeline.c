@@ -208,10 +208,52 @@ static void test_e2e_capture_truth_sim(void **state)
     ts_remove_dir(dir);
 }
 
+/* tryon-truth on a directory that is not a recording, or whose ground-truth list is damaged:
+ * a clear error naming the file and line, exit 1, nothing published. */
+static void test_e2e_truth_rejects_bad_recordings(void **state)
+{
+    (void)state;
+    char url[128], prefix[32], dir[256], path[400], log_path[400];
+    ts_private_bus(url, sizeof url, prefix, sizeof prefix);
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "e2e_truth"), 0);
+    snprintf(log_path, sizeof log_path, "%s/truth.log", dir);
+    const struct {
+        const char *groundtruth; /* NULL: no file */
+        const char *expect;
+    } cases[] = {
+        {NULL, "groundtruth.txt"},
+        {"# frame record_time_s depth_file ground_truth_file\n", "lists no frame"},
+        {"# comment\n1 1.0 d-1.pgm gt-000001.txt\n", "line 2: expected frame 0"},
+        {"0 1.0 d-0.pgm gt-000000.txt\n", "gt-000000.txt"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        snprintf(path, sizeof path, "%s/groundtruth.txt", dir);
+        remove(path);
+        if (cases[c].groundtruth) {
+            FILE *f = fopen(path, "w");
+            assert_non_null(f);
+            fputs(cases[c].groundtruth, f);
+            fclose(f);
+        }
+        char *argv[] = {TRYON_TRUTH_EXE, "--recording", dir, NULL};
+        pid_t pid = ts_spawn_out(argv, NULL, log_path);
+        assert_true(pid > 0);
+        int rc = ts_wait(pid, 20000);
+        char *log = ts_read_file(log_path);
+        printf("# case %zu: exit %d: %s", c, rc, log ? log : "(no output)\n");
+        assert_int_equal(rc, 1);
+        assert_non_null(log);
+        assert_non_null(strstr(log, cases[c].expect));
+        free(log);
+    }
+    ts_remove_dir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_e2e_capture_truth_sim),
+        cmocka_unit_test(test_e2e_truth_rejects_bad_recordings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
