@@ -17,7 +17,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     liblcm-dev liblcm-bin libglib2.0-dev libcmocka-dev
     ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
     libfreenect-dev libfreenect-bin libopenni2-dev
-    clang-format gnuplot-nox)
+    clang-format gnuplot-nox libbullet-dev)
 
 as_root() {
     if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi
@@ -64,7 +64,7 @@ build() { # build DIR [cmake args...]
 
 format_check() {
     local bad
-    bad=$(git ls-files '*.c' '*.h' '*.cl' | xargs -r clang-format --dry-run -Werror 2>&1 | grep -o '^[^:]*\.[ch]l\?:' | sort -u || true)
+    bad=$(git ls-files '*.c' '*.h' '*.cl' '*.cpp' | xargs -r clang-format --dry-run -Werror 2>&1 | grep -o '^[^:]*\.[a-z]*:' | sort -u || true)
     if [ -n "$bad" ]; then
         echo "clang-format: these files are not formatted (run clang-format -i):" >&2
         echo "$bad" >&2
