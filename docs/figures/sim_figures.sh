@@ -41,6 +41,17 @@ done
 for n in 2000 7056; do
   run --scene drape --verts $n --iterations 25 --solver seed --backend c >> "$OUT/verts.jsonl"
 done
+# Bullet's soft-body cloth on the same drape (tryon-bench-bullet, when libbullet-dev is there):
+# one step per frame, 25 solver iterations, the cloth's thickness as its margin (4 mm), and the
+# margin Bullet needs to keep the sheet out of the sphere at one step a frame (20 mm)
+: > "$OUT/bullet.jsonl"
+if [ -x "$B/sim/tryon-bench-bullet" ]; then
+  for n in 2000 4000 7056 15000 30000; do
+    "$B/sim/tryon-bench-bullet" --verts $n --iterations 25 | tail -n 1 >> "$OUT/bullet.jsonl"
+  done
+  "$B/sim/tryon-bench-bullet" --verts 7056 --iterations 25 --margin-mm 20 | tail -n 1 \
+      >> "$OUT/bullet.jsonl"
+fi
 
 # 4. stability map: drape, 1,024 vertices, 1 s; step size (iterations) x stretch stiffness
 : > "$OUT/stability.jsonl"
@@ -69,6 +80,21 @@ for name, key in (('iters.jsonl', 'iterations'), ('verts.jsonl', 'verts')):
                 f.write('%d %.3f %.3f %.5f %.5f %.2f\n' % (r[key], r['ms_median'],
                         r['ms_median_no_metrics'], r['max_strain'], r['p99_strain'],
                         r['cloth_error_mm']))
+with open(os.path.join(out, 'verts-bullet.dat'), 'w') as f:
+    for r in sorted((r for r in rows('bullet.jsonl') if r['margin_mm'] == 4),
+                    key=lambda r: r['verts']):
+        f.write('%d %.3f %.3f %.5f %.5f %d\n' % (r['verts'], r['ms_median'], r['ms_median'],
+                r['max_strain'], r['p99_strain'], r['penetrating']))
+# stability map: one block per solver, x = iteration count index, y = stiffness index
+for solver in ('tryon', 'seed'):
+    rs = [r for r in rows('stability.jsonl') if r['solver'] == solver]
+    its = sorted({r['iterations'] for r in rs})
+    ks = sorted({r['stretch_n_m'] for r in rs})
+    with open(os.path.join(out, 'stability-' + solver + '.dat'), 'w') as f:
+        for r in rs:
+            f.write('%d %d %d %.1f %d %g\n' % (its.index(r['iterations']),
+                    ks.index(r['stretch_n_m']), r['diverged_frames'], 100 * r['max_strain'],
+                    r['iterations'], r['stretch_n_m']))
 with open(os.path.join(out, 'stability.txt'), 'w') as f:
     for r in rows('stability.jsonl'):
         f.write('%s %d %g %d %d %.4f\n' % (r['solver'], r['iterations'], r['stretch_n_m'],
@@ -93,10 +119,27 @@ set multiplot layout 1,2 title "drape scene, 25 iterations: 2K..30K vertices"
 set logscale xy
 set xlabel "vertices"
 set ylabel "ms per frame (median)"
-plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/verts-".g.".dat" u 1:2 w lp t g
+plot for [g in "tryon-c seed-c tryon-opencl bullet"] "$OUT/verts-".g.".dat" u 1:2 w lp t g
 unset logscale y
-set ylabel "cloth error, mm"
-plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/verts-".g.".dat" u 1:6 w lp t g
+set ylabel "max stretch strain after 1 s"
+plot for [g in "tryon-c seed-c tryon-opencl bullet"] "$OUT/verts-".g.".dat" u 1:4 w lp t g
+unset multiplot
+set output "$FIG/sim_stability.png"
+unset logscale
+set multiplot layout 1,2 title "stability map: drape, 1,024 vertices, 30 frames; colour = frames diverged, label = max strain %"
+set xlabel "iterations per frame (time step = 33.3 ms / iterations)"
+set ylabel "stretch stiffness, N/m"
+set xtics ("5" 0, "10" 1, "25" 2, "50" 3)
+set ytics ("100" 0, "1000" 1, "10^4" 2, "10^5" 3)
+set cbrange [0:30]
+set palette defined (0 "#e8f5e9", 1 "#fff59d", 30 "#c62828")
+set xrange [-0.5:3.5]
+set yrange [-0.5:3.5]
+unset key
+set title "tryon (XPBD + strain limit + tethers)"
+plot "$OUT/stability-tryon.dat" u 1:2:3 w image, "" u 1:2:(sprintf("%d / %.0f%%", \$3, \$4)) w labels
+set title "seed (explicit springs + Provot)"
+plot "$OUT/stability-seed.dat" u 1:2:3 w image, "" u 1:2:(sprintf("%d / %.0f%%", \$3, \$4)) w labels
 unset multiplot
 GP
 echo "figures in $FIG, data in $OUT"
