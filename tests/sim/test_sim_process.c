@@ -1,6 +1,7 @@
 /* tryon-sim as its own process, fed BODY over udpm on loopback (a private port and channel
  * prefix): it publishes CLOTH and TIMING per frame, survives a malformed BODY (the bus drops it)
- * and a body the sim rejects (it skips the frame), and exits cleanly on SIGTERM. */
+ * and a body the sim rejects (it skips the frame), collapses a burst to the newest body, and
+ * exits cleanly on SIGTERM. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -63,69 +64,97 @@ static void send_body(lcm_t *lcm, const char *ch, sim_scene *sc, int seq, int de
     free(t);
 }
 
+/* One tryon-sim process on a private bus, and the test's end of that bus. */
+typedef struct session {
+    pid_t pid;
+    char out[256];
+    lcm_t *lcm;
+    char ch_body[BUS_CHANNEL_MAX];
+    bus_sub *subs[2];
+    sim_scene *sc;
+    counts n;
+    int seq; /* next body's */
+} session;
+
+/* Starts tryon-sim with the options given (NULL-ended), then sends bodies until the first CLOTH
+ * comes back (until the process listens, bodies are lost) and lets those queued come back. */
+static void session_start(session *s, const char *tag, char *const options[])
+{
+    char url[128], prefix[32], err[512], ch[BUS_CHANNEL_MAX];
+    memset(s, 0, sizeof *s);
+    s->n.last_seq = -1;
+    ts_private_bus(url, sizeof url, prefix, sizeof prefix);
+    snprintf(s->out, sizeof s->out, "test_sim_process_%s_%s.log", tag, prefix);
+    char *argv[16] = {getenv("TRYON_SIM_EXE")};
+    assert_non_null(argv[0]);
+    for (int i = 0; options[i] && i < 14; i++)
+        argv[i + 1] = options[i];
+    s->pid = ts_spawn_out(argv, NULL, s->out);
+    assert_true(s->pid > 0);
+    s->lcm = bus_open(NULL, err, sizeof err);
+    if (!s->lcm)
+        fail_msg("%s", err);
+    bus_channel(BUS_CHANNEL_BODY, s->ch_body, sizeof s->ch_body);
+    bus_channel(BUS_CHANNEL_CLOTH, ch, sizeof ch);
+    s->subs[0] = bus_subscribe(s->lcm, ch, BUS_CLOTH, on_cloth, &s->n);
+    bus_channel(BUS_CHANNEL_TIMING, ch, sizeof ch);
+    s->subs[1] = bus_subscribe(s->lcm, ch, BUS_TIMING, on_timing, &s->n);
+    float c[3] = {0.0f, 1.2f, 0.0f};
+    s->sc = sim_scene_sphere(0.15f, c, 300);
+    for (int tries = 0; s->n.cloth == 0 && tries < 100; tries++) {
+        send_body(s->lcm, s->ch_body, s->sc, s->seq++, 0);
+        lcm_handle_timeout(s->lcm, 100);
+    }
+    assert_true(s->n.cloth > 0);
+    for (int k = 0; k < 20; k++) /* the bodies queued while the garment was made */
+        lcm_handle_timeout(s->lcm, 50);
+}
+
+/* SIGTERM (a clean exit is asserted by the caller); returns the status and the process's log. */
+static int session_stop(session *s, char **log)
+{
+    for (int k = 0; k < 5; k++) /* the last TIMING follows its CLOTH */
+        lcm_handle_timeout(s->lcm, 50);
+    int status = ts_stop(s->pid, SIGTERM, 10000);
+    *log = ts_read_file(s->out);
+    remove(s->out);
+    sim_scene_destroy(s->sc);
+    for (int i = 0; i < 2; i++)
+        bus_unsubscribe(s->lcm, s->subs[i]);
+    lcm_destroy(s->lcm);
+    return status;
+}
+
+/* --queue all: every body is simulated, a malformed one (dropped by the bus) and one the sim
+ * refuses (skipped) are reported, and the process serves on. */
 static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **state)
 {
     (void)state;
-    char url[128], prefix[32], err[512], ch_body[BUS_CHANNEL_MAX], ch_cloth[BUS_CHANNEL_MAX];
-    char ch_timing[BUS_CHANNEL_MAX], out[256];
-    ts_private_bus(url, sizeof url, prefix, sizeof prefix);
-    const char *exe = getenv("TRYON_SIM_EXE");
-    assert_non_null(exe);
-    snprintf(out, sizeof out, "test_sim_process_%s.log", prefix);
-    char *argv[] = {(char *)exe, "--backend", "c", "--verts", "400", "--queue", "all", NULL};
-    pid_t pid = ts_spawn_out(argv, NULL, out);
-    assert_true(pid > 0);
-
-    lcm_t *lcm = bus_open(NULL, err, sizeof err);
-    if (!lcm)
-        fail_msg("%s", err);
-    bus_channel(BUS_CHANNEL_BODY, ch_body, sizeof ch_body);
-    bus_channel(BUS_CHANNEL_CLOTH, ch_cloth, sizeof ch_cloth);
-    bus_channel(BUS_CHANNEL_TIMING, ch_timing, sizeof ch_timing);
-    counts n = {0};
-    bus_sub *sc_cloth = bus_subscribe(lcm, ch_cloth, BUS_CLOTH, on_cloth, &n);
-    bus_sub *sc_timing = bus_subscribe(lcm, ch_timing, BUS_TIMING, on_timing, &n);
-    float c[3] = {0.0f, 1.2f, 0.0f};
-    sim_scene *sc = sim_scene_sphere(0.15f, c, 300);
-
-    /* until the process listens, bodies are lost: resend until the first CLOTH */
-    int seq = 0;
-    for (int tries = 0; n.cloth == 0 && tries < 100; tries++) {
-        send_body(lcm, ch_body, sc, seq++, 0);
-        lcm_handle_timeout(lcm, 100);
-    }
-    assert_true(n.cloth > 0);
-    for (int k = 0; k < 6; k++) /* let the bodies already queued come back */
-        lcm_handle_timeout(lcm, 50);
-    int before = n.cloth;
+    session s;
+    session_start(&s, "bad",
+                  (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", NULL});
+    int before = s.n.cloth;
     /* a malformed BODY: garbage bytes on the channel */
     const char junk[] = "this is not a body_t";
-    lcm_publish(lcm, ch_body, junk, sizeof junk);
+    lcm_publish(s.lcm, s.ch_body, junk, sizeof junk);
     /* a body the sim refuses: a triangle repeats a vertex */
-    send_body(lcm, ch_body, sc, seq++, 1);
-    for (int k = 0; k < 20 && n.cloth < before + 3; k++) {
-        send_body(lcm, ch_body, sc, seq++, 0);
-        lcm_handle_timeout(lcm, 100);
+    send_body(s.lcm, s.ch_body, s.sc, s.seq++, 1);
+    for (int k = 0; k < 20 && s.n.cloth < before + 3; k++) {
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+        lcm_handle_timeout(s.lcm, 100);
     }
-    for (int k = 0; k < 5; k++) /* the last TIMING follows its CLOTH */
-        lcm_handle_timeout(lcm, 50);
-    int status = ts_stop(pid, SIGTERM, 10000); /* a clean exit on SIGTERM */
-    char *log = ts_read_file(out);
-    printf("# cloth %d (first %d), with triangles %d, timing %d, %d vertices; log:\n%s", n.cloth,
-           before, n.cloth_with_tris, n.timing, n.nv, log ? log : "(none)");
+    char *log;
+    int status = session_stop(&s, &log);
+    printf("# cloth %d (first %d), with triangles %d, timing %d, %d vertices; log:\n%s", s.n.cloth,
+           before, s.n.cloth_with_tris, s.n.timing, s.n.nv, log ? log : "(none)");
     assert_int_equal(status, 0);
-    assert_true(n.cloth >= before + 3); /* still serving after the bad bodies */
-    assert_true(n.timing >= before + 3);
-    assert_true(n.cloth_with_tris >= 1);
+    assert_true(s.n.cloth >= before + 3); /* still serving after the bad bodies */
+    assert_true(s.n.timing >= before + 3);
+    assert_true(s.n.cloth_with_tris >= 1);
     assert_non_null(log);
     assert_non_null(strstr(log, "SIM_ERR_DEGENERATE"));
     assert_non_null(strstr(log, "1 BODY messages dropped"));
     free(log);
-    remove(out);
-    sim_scene_destroy(sc);
-    bus_unsubscribe(lcm, sc_cloth);
-    bus_unsubscribe(lcm, sc_timing);
-    lcm_destroy(lcm);
 }
 
 /* --queue latest (the default): a burst of bodies faster than the sim is collapsed to the
@@ -133,53 +162,26 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
 static void test_sim_process_latest_body_wins(void **state)
 {
     (void)state;
-    char url[128], prefix[32], err[512], ch_body[BUS_CHANNEL_MAX], ch_cloth[BUS_CHANNEL_MAX];
-    char out[256];
-    ts_private_bus(url, sizeof url, prefix, sizeof prefix);
-    snprintf(out, sizeof out, "test_sim_process_latest_%s.log", prefix);
-    const char *exe = getenv("TRYON_SIM_EXE");
-    assert_non_null(exe);
+    session s;
     /* a heavy enough garment that one frame outlasts the burst */
-    char *argv[] = {(char *)exe, "--backend", "c", "--verts", "6000", "--iterations", "60", NULL};
-    pid_t pid = ts_spawn_out(argv, NULL, out);
-    assert_true(pid > 0);
-    lcm_t *lcm = bus_open(NULL, err, sizeof err);
-    if (!lcm)
-        fail_msg("%s", err);
-    bus_channel(BUS_CHANNEL_BODY, ch_body, sizeof ch_body);
-    bus_channel(BUS_CHANNEL_CLOTH, ch_cloth, sizeof ch_cloth);
-    counts n = {.last_seq = -1};
-    bus_sub *sc_cloth = bus_subscribe(lcm, ch_cloth, BUS_CLOTH, on_cloth, &n);
-    float c[3] = {0.0f, 1.2f, 0.0f};
-    sim_scene *sc = sim_scene_sphere(0.15f, c, 300);
-    int seq = 0;
-    for (int tries = 0; n.cloth == 0 && tries < 100; tries++) {
-        send_body(lcm, ch_body, sc, seq++, 0);
-        lcm_handle_timeout(lcm, 100);
-    }
-    assert_true(n.cloth > 0);
-    for (int k = 0; k < 20; k++) /* the bodies queued while the garment was made */
-        lcm_handle_timeout(lcm, 50);
-    int before = n.cloth;
+    session_start(&s, "latest",
+                  (char *[]){"--backend", "c", "--verts", "6000", "--iterations", "60", NULL});
+    int before = s.n.cloth;
     const int burst = 30;
     for (int k = 0; k < burst; k++)
-        send_body(lcm, ch_body, sc, seq++, 0);
-    for (int k = 0; k < 300 && n.last_seq != seq - 1; k++)
-        lcm_handle_timeout(lcm, 100);
-    int status = ts_stop(pid, SIGTERM, 10000);
-    char *log = ts_read_file(out);
-    printf("# burst of %d bodies: %d cloth, last seq %d of %d; log:\n%s", burst, n.cloth - before,
-           n.last_seq, seq - 1, log ? log : "(none)");
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+    for (int k = 0; k < 300 && s.n.last_seq != s.seq - 1; k++)
+        lcm_handle_timeout(s.lcm, 100);
+    char *log;
+    int status = session_stop(&s, &log);
+    printf("# burst of %d bodies: %d cloth, last seq %d of %d; log:\n%s", burst, s.n.cloth - before,
+           s.n.last_seq, s.seq - 1, log ? log : "(none)");
     assert_int_equal(status, 0);
-    assert_int_equal(n.last_seq, seq - 1); /* the newest body was simulated */
-    assert_true(n.cloth - before < burst); /* and not every one before it */
+    assert_int_equal(s.n.last_seq, s.seq - 1); /* the newest body was simulated */
+    assert_true(s.n.cloth - before < burst);   /* and not every one before it */
     assert_non_null(log);
     assert_null(strstr(log, " 0 superseded"));
     free(log);
-    remove(out);
-    sim_scene_destroy(sc);
-    bus_unsubscribe(lcm, sc_cloth);
-    lcm_destroy(lcm);
 }
 
 int main(void)
