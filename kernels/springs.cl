@@ -78,6 +78,42 @@ void sim_tether_one(__global float4 *x, __global const int *anchor, __global con
     x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
 }
 
+/* The strain-limit hierarchy, entry e (sim_strain_hierarchy): its vertex moved alone to within
+   rest (1 + limit) of each parent in turn. */
+void sim_strain_hierarchy_one(__global float4 *x, __global const int *vertex,
+                              __global const int *parent_start, __global const int *parent,
+                              __global const float *rest, int e, float limit)
+{
+    int i = vertex[e];
+    if (x[i].w == 0.0f)
+        return;
+    for (int k = parent_start[e]; k < parent_start[e + 1]; k++) {
+        float4 p = x[i], q = x[parent[k]];
+        float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+        float len = sqrt(dx * dx + dy * dy + dz * dz);
+        float lmax = rest[k] * (1.0f + limit);
+        if (len <= lmax)
+            continue;
+        float c = (len - lmax) / len;
+        x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
+    }
+}
+
+/* Post-stabilisation brackets (sim_post_begin / sim_post_end): x_prev -= x, then += x. */
+void sim_post_begin_one(__global const float4 *x, __global float4 *x_prev, int i)
+{
+    float4 p = x[i], q = x_prev[i];
+    if (p.w != 0.0f)
+        x_prev[i] = (float4)(q.x - p.x, q.y - p.y, q.z - p.z, q.w);
+}
+
+void sim_post_end_one(__global const float4 *x, __global float4 *x_prev, int i)
+{
+    float4 p = x[i], q = x_prev[i];
+    if (p.w != 0.0f)
+        x_prev[i] = (float4)(q.x + p.x, q.y + p.y, q.z + p.z, q.w);
+}
+
 /* The layout of sim_attachment (sim/sim.h). */
 typedef struct sim_attachment {
     int vertex;
@@ -166,7 +202,7 @@ __kernel void sim_tethers(__global float4 *x, __global const int *anchor, __glob
    work-group: contacts refreshed every contact_every steps (0 = never; a full search, or the
    surface walk of sim_collider_track_contacts when contact_walk is set: whichever the C solver
    calls), Verlet, attachments, XPBD springs colour by colour, strain limiting colour by colour,
-   then per vertex tethers and collision response. */
+   then per vertex tethers and collision response; after the last step the post-stabilisation. */
 __kernel void sim_iterations_tryon(
     __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
     __global const float *rest, __global const uchar *kind, __global const int *color_start,
@@ -177,7 +213,10 @@ __kernel void sim_iterations_tryon(
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
     __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
     __global int *contact, int contact_walk, __global const sim_attachment *att, int natt,
-    __global const float4 *att_from, __global const float4 *att_to)
+    __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
+    __global const int *hier_level_start, __global const int *hier_vertex,
+    __global const int *hier_parent_start, __global const int *hier_parent,
+    __global const float *hier_rest)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     for (int it = 0; it < iters; it++) {
@@ -213,5 +252,26 @@ __kernel void sim_iterations_tryon(
             sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
         }
         barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+    /* post-stabilisation (iterations_tryon): the hierarchy level by level, a strain-limit sweep,
+       tethers, velocities kept, then the contacts */
+    for (int i = lid; i < nv; i += L)
+        sim_post_begin_one(x, x_prev, i);
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    for (int l = 0; l < hier_levels; l++) {
+        for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
+            sim_strain_hierarchy_one(x, hier_vertex, hier_parent_start, hier_parent, hier_rest, e,
+                                     limit);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+    for (int col = 0; col < num_stretch_colors; col++) {
+        for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+            sim_strain_limit_one(x, ends, rest, kind, s, limit);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+    for (int i = lid; i < nv; i += L) {
+        sim_tether_one(x, tether_anchor, tether_len, i, limit);
+        sim_post_end_one(x, x_prev, i);
+        sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
     }
 }

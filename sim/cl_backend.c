@@ -25,6 +25,7 @@ typedef struct cl_state {
     sim_cl cl;
     sim_cl_collide g;
     cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach, att_from, att_to;
+    cl_mem hier_level_start, hier_vertex, hier_parent_start, hier_parent, hier_rest;
     cl_kernel k_iter, k_attach;
     size_t group;
     int32_t *moved; /* host copy of the per-point flags */
@@ -51,8 +52,10 @@ static void cl_destroy(void *state)
         clReleaseMemObject(c->att_from);
     if (c->att_to)
         clReleaseMemObject(c->att_to);
-    cl_mem ms[] = {c->x,           c->x_prev, c->ends, c->rest,  c->kind,
-                   c->color_start, c->anchor, c->tlen, c->attach};
+    cl_mem ms[] = {c->x,           c->x_prev,           c->ends,        c->rest,
+                   c->kind,        c->color_start,      c->anchor,      c->tlen,
+                   c->attach,      c->hier_level_start, c->hier_vertex, c->hier_parent_start,
+                   c->hier_parent, c->hier_rest};
     for (size_t i = 0; i < sizeof ms / sizeof ms[0]; i++)
         if (ms[i])
             clReleaseMemObject(ms[i]);
@@ -126,6 +129,15 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
     free(zero);
     c->attach = const_buffer(&c->cl, (size_t)k->num_attachments * sizeof(sim_attachment),
                              k->attachments, &st);
+    /* the strain-limit hierarchy (empty without attachments: 16-byte placeholders) */
+    size_t nh = (size_t)k->hier_level_start[k->hier_levels];
+    c->hier_level_start =
+        const_buffer(&c->cl, (size_t)(k->hier_levels + 1) * 4, k->hier_level_start, &st);
+    c->hier_vertex = const_buffer(&c->cl, nh * 4, k->hier_vertex, &st);
+    c->hier_parent_start = const_buffer(&c->cl, (nh + 1) * 4, k->hier_parent_start, &st);
+    c->hier_parent =
+        const_buffer(&c->cl, (size_t)k->hier_parent_start[nh] * 4, k->hier_parent, &st);
+    c->hier_rest = const_buffer(&c->cl, (size_t)k->hier_parent_start[nh] * 4, k->hier_rest, &st);
     size_t na = k->num_attachments > 0 ? (size_t)k->num_attachments : 1;
     if (st == CL_SUCCESS)
         c->att_from = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
@@ -250,6 +262,12 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 34, k->num_attachments);
     st |= ARG(it, 35, c->att_from);
     st |= ARG(it, 36, c->att_to);
+    st |= ARG(it, 37, k->hier_levels);
+    st |= ARG(it, 38, c->hier_level_start);
+    st |= ARG(it, 39, c->hier_vertex);
+    st |= ARG(it, 40, c->hier_parent_start);
+    st |= ARG(it, 41, c->hier_parent);
+    st |= ARG(it, 42, c->hier_rest);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

@@ -39,6 +39,16 @@ typedef struct sim_cloth {
      * from its (geodesically) nearest attached vertex than it was at rest; -1 = no tether. */
     int32_t *tether_anchor;
     float *tether_len;
+    /* The strain-limit hierarchy (shock propagation from the attachments outward): the free
+     * vertices that attachments reach, by level (hops over stretch springs from the nearest
+     * attached vertex); entry e is vertex hier_vertex[e], its stretch springs to the level above
+     * are [hier_parent_start[e], hier_parent_start[e + 1]) of hier_parent / hier_rest. */
+    int hier_levels;
+    int32_t *hier_level_start; /* [hier_levels + 1] entries; level l is entries [start[l], ..) */
+    int32_t *hier_vertex;
+    int32_t *hier_parent_start;
+    int32_t *hier_parent;
+    float *hier_rest;
 } sim_cloth;
 
 /* The body as the driver keeps it: frame k and k-1. */
@@ -100,7 +110,6 @@ struct sim {
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
-#define SIM_STRAIN_SWEEPS       8      /* tryon: strain-limit sweeps at the end of each frame */
 #define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
@@ -125,6 +134,16 @@ void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *r
 /* tryon: tethers, each vertex pulled back within len * (1 + limit) of its anchor. */
 void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int begin, int end,
                  float limit);
+/* tryon: the strain-limit hierarchy over entries [begin, end) in level order: each vertex is
+ * moved (alone: its parents count as infinitely heavy) to within rest * (1 + limit) of each of
+ * its parents in turn. Vertices of one level are independent. */
+void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *parent_start,
+                          const int32_t *parent, const float *rest, int begin, int end,
+                          float limit);
+/* tryon, post-stabilisation: x_prev -= x before position-only corrections, x_prev += x after,
+ * so the velocity x - x_prev survives them; pinned points (w = 0) untouched. */
+void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end);
+void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end);
 /* tryon: clamp stretch springs to rest * (1 + limit). */
 void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end, float limit);

@@ -112,6 +112,19 @@ static float frame_travel(const sim_cloth *c, int iters)
     return sqrtf(m2) * (float)iters;
 }
 
+/* One Gauss-Seidel sweep of the strain limit over the stretch colours (inside a parallel
+ * region: one worksharing loop per colour). */
+static void strain_limit_sweep(sim_cloth *c, float limit)
+{
+    for (int col = 0; col < c->num_stretch_colors; col++) {
+#pragma omp for schedule(static)
+        for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
+            int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
+            sim_strain_limit(c->x, c->ends, c->rest, c->kind, s0, s1, limit);
+        }
+    }
+}
+
 static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
                              const float g[3])
 {
@@ -143,19 +156,27 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
                 }
             }
             /* the strain limit after shear and bend, which may stretch what it fixed */
-            for (int col = 0; col < c->num_stretch_colors; col++) {
-#pragma omp for schedule(static)
-                for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
-                    int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
-                    sim_strain_limit(c->x, c->ends, c->rest, c->kind, s0, s1, limit);
-                }
-            }
+            strain_limit_sweep(c, limit);
             /* per vertex from here on: tethers (anchors are attached and do not move), then
              * the contacts, each thread on its own vertices */
             sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
             sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
 #pragma omp barrier
         }
+        /* Post-stabilisation of the strain limit (docs/sim.md): one Gauss-Seidel sweep per step
+         * moves a correction about one spring, so a long region stretched a little stays
+         * stretched. The hierarchy from the attachments outward removes it in one pass, a sweep
+         * settles the springs within a level, the tethers hold; positions only, the velocities
+         * x - x_prev are kept (x_prev moves with x), then the contacts as in every step. */
+        sim_post_begin(c->x, c->x_prev, vb, ve);
+#pragma omp barrier
+#pragma omp single
+        sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
+                             c->hier_rest, 0, c->hier_level_start[c->hier_levels], limit);
+        strain_limit_sweep(c, limit);
+        sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
+        sim_post_end(c->x, c->x_prev, vb, ve);
+        sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
     }
 }
 

@@ -138,6 +138,48 @@ void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest
     }
 }
 
+/* Shock propagation (Guendelman, Bridson & Fedkiw 2003) applied to strain limiting: processed
+ * from the attachments outward, each vertex is corrected against its already-final parents as if
+ * they were infinitely heavy, so one pass removes a stretch that Gauss-Seidel sweeps remove one
+ * spring per sweep (the one-sided projection of follow-the-leader, Mueller et al. 2012, on the
+ * springs of a level graph). */
+void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *parent_start,
+                          const int32_t *parent, const float *rest, int begin, int end, float limit)
+{
+    for (int e = begin; e < end; e++) {
+        int i = vertex[e];
+        if (x[i][3] == 0.0f)
+            continue; /* pinned: the driver places it */
+        for (int k = parent_start[e]; k < parent_start[e + 1]; k++) {
+            int p = parent[k];
+            float d[3] = {x[i][0] - x[p][0], x[i][1] - x[p][1], x[i][2] - x[p][2]};
+            float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            float lmax = rest[k] * (1.0f + limit);
+            if (len <= lmax)
+                continue;
+            float c = (len - lmax) / len;
+            for (int a = 0; a < 3; a++)
+                x[i][a] -= d[a] * c;
+        }
+    }
+}
+
+void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end)
+{
+    for (int i = begin; i < end; i++)
+        if (x[i][3] != 0.0f)
+            for (int d = 0; d < 3; d++)
+                x_prev[i][d] -= x[i][d];
+}
+
+void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end)
+{
+    for (int i = begin; i < end; i++)
+        if (x[i][3] != 0.0f)
+            for (int d = 0; d < 3; d++)
+                x_prev[i][d] += x[i][d];
+}
+
 /* Long-range attachments (Kim, Tessendorf, Thuerey 2012): a unilateral constraint from each free
  * vertex to its nearest attached vertex. Only the free end moves, so vertices are independent and
  * the pass needs no colouring. It carries the weight of a hanging garment in one step where
