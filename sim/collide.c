@@ -89,6 +89,7 @@ void sim_collider_destroy(sim_collider *c)
     free(c->vt_list);
     free(c->edge_scratch);
     free(c->contact);
+    free(c->clear);
     sim_bvh_free(&c->bvh);
     free(c);
 }
@@ -102,9 +103,15 @@ int sim_collider_reserve(sim_collider *c, int max_cloth)
     int32_t *p = realloc(c->contact, (size_t)max_cloth * sizeof *p);
     if (!p)
         return SIM_COLLIDE_ENOMEM;
-    for (int i = c->max_cloth; i < max_cloth; i++)
-        p[i] = -1;
     c->contact = p;
+    float(*q)[4] = realloc(c->clear, (size_t)max_cloth * sizeof *q);
+    if (!q)
+        return SIM_COLLIDE_ENOMEM;
+    c->clear = q;
+    for (int i = c->max_cloth; i < max_cloth; i++) {
+        p[i] = -1;
+        q[i][3] = 0.0f;
+    }
     c->max_cloth = max_cloth;
     return 0;
 }
@@ -313,6 +320,8 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         return rc;
     int had_body = c->nt > 0;
     int same = same_topology(c, nv, tris, nt);
+    for (int i = 0; i < c->max_cloth; i++)
+        c->clear[i][3] = 0.0f; /* the bounds were for the old body frame */
     if (same) {
         float(*tv)[4] = c->v_prev;
         c->v_prev = c->v;
@@ -430,9 +439,19 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
                                                  bary, &dist)
                           : -1;
         /* none within reach: far outside, or deep inside (then the nearest at any distance) */
-        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
+        float clear = reach; /* none within reach and clearly outside: outside by reach or more */
+        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i])) {
             t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+            clear = 0.0f;
+        }
         c->contact[i] = t;
+        /* t is the nearest triangle of all, so its pseudo-normal signs the distance exactly */
+        if (t >= 0)
+            clear = sim_collider_signed_distance(c, t, x[i]);
+        c->clear[i][0] = x[i][0];
+        c->clear[i][1] = x[i][1];
+        c->clear[i][2] = x[i][2];
+        c->clear[i][3] = c->nt > 0 ? clear : 0.0f;
     }
 }
 

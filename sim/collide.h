@@ -185,6 +185,12 @@ struct sim_collider {
     sim_bvh bvh;
     int32_t *contact; /* cached triangle per cloth point, -1 = none */
     int max_cloth;
+    /* Per cloth point, from its last full contact search against this body frame: xyz where the
+       point was, w a lower bound of its signed distance to the body there (> 0: outside by at
+       least w; <= 0: no bound). The signed distance is 1-Lipschitz, so a point now closer than w
+       to that place is still outside: the metric then needs no query of its own. Cleared by
+       sim_collider_set_body (a new body frame voids every bound). */
+    float (*clear)[4];
 };
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a

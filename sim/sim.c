@@ -52,6 +52,7 @@ int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
 }
 
 static void save_good(sim *s);
+static void keep_good(sim *s, float max_strain);
 
 sim_desc sim_default_desc(void)
 {
@@ -365,13 +366,20 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
 }
 
-static void save_good(sim *s)
+/* The state becomes the last good one; max_strain is its max stretch strain. */
+static void keep_good(sim *s, float max_strain)
 {
-    float p99;
-    sim_strain_stats(&s->cloth, s->scratch, &s->strain_good, &p99);
+    s->strain_good = max_strain;
     size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_good;
     memcpy(s->x_good, s->cloth.x, bytes);
     memcpy(s->x_prev_good, s->cloth.x_prev, bytes);
+}
+
+static void save_good(sim *s)
+{
+    float max_strain, p99;
+    sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
+    keep_good(s, max_strain);
 }
 
 static void restore_good(sim *s)
@@ -458,7 +466,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     sim_collider_penetration(s->collider, (const float(*)[4])s->cloth.x, s->cloth.nv, SIM_PEN_TOL_M,
                              &st->penetrating, &depth);
     st->max_pen_mm = depth * 1000.0f;
-    save_good(s);
+    keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
     double t3 = now_ms();
     st->ms_metrics = (float)(t3 - t2);
     st->ms_total = (float)(t3 - t0);
