@@ -200,6 +200,19 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
     sim_bvh_refit(b, v_prev, v, tris, pad_m);
 }
 
+/* fminf / fmaxf without the library call (they are not inlined: their NaN rules differ from
+   minss). The body is validated finite, and where fminf would tell -0 from +0 a box distance
+   cannot (p - -0 == p - +0), so the refit gives the same answers. */
+static float min2(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static float max2(float a, float b)
+{
+    return a > b ? a : b;
+}
+
 static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float (*v)[4],
                      const int32_t (*tris)[4], float pad_m)
 {
@@ -207,12 +220,12 @@ static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float
     const int32_t *t = tris[b->order[leaf]];
     for (int k = 0; k < 3; k++) {
         float a = v[t[0]][k], c = v[t[1]][k], e = v[t[2]][k];
-        float lo = fminf(a, fminf(c, e)), hi = fmaxf(a, fmaxf(c, e));
+        float lo = min2(a, min2(c, e)), hi = max2(a, max2(c, e));
         b->lo[node][k] = lo;
         b->hi[node][k] = hi;
         a = v_prev[t[0]][k], c = v_prev[t[1]][k], e = v_prev[t[2]][k];
-        b->slo[node][k] = fminf(lo, fminf(a, fminf(c, e))) - pad_m;
-        b->shi[node][k] = fmaxf(hi, fmaxf(a, fmaxf(c, e))) + pad_m;
+        b->slo[node][k] = min2(lo, min2(a, min2(c, e))) - pad_m;
+        b->shi[node][k] = max2(hi, max2(a, max2(c, e))) + pad_m;
     }
     b->lo[node][3] = b->hi[node][3] = b->slo[node][3] = b->shi[node][3] = 0.0f;
 }
@@ -220,8 +233,8 @@ static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float
 static void merge_box(float (*lo)[4], float (*hi)[4], int node, int l, int r)
 {
     for (int k = 0; k < 4; k++) {
-        lo[node][k] = fminf(lo[l][k], lo[r][k]);
-        hi[node][k] = fmaxf(hi[l][k], hi[r][k]);
+        lo[node][k] = min2(lo[l][k], lo[r][k]);
+        hi[node][k] = max2(hi[l][k], hi[r][k]);
     }
 }
 
