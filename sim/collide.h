@@ -139,7 +139,19 @@ struct sim_bvh {
     float pad;                  /* the thickness, m */
     int *counter;               /* per internal node, for the bottom-up refit */
     uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
+    /* The nearest search's 4-wide copy of the tree: each node holds a binary node's children or,
+       where those are internal, their children, so a descent pops half as many nodes and tests
+       four boxes at once. Shape built with the topology, boxes copied from lo/hi by the refit. */
+    struct sim_bvh_node4 *wide;
+    int nwide;
 };
+
+typedef struct sim_bvh_node4 {
+    float lo[3][4], hi[3][4]; /* [axis][slot]: static boxes of the slots' binary nodes */
+    int32_t node[4];          /* each slot's binary node */
+    int32_t next[4];          /* >= 0: the slot's 4-wide node; < 0: sorted leaf -1 - next */
+    int32_t count;            /* slots in use, 2..4 */
+} sim_bvh_node4;
 
 int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
 void sim_bvh_free(sim_bvh *b);
@@ -156,7 +168,8 @@ void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
 uint32_t sim_morton3(float x, float y, float z);
 
 /* Nearest triangle to p within radius_m (closest point distance); -1 when none. q and bary: the
-   closest point and its barycentrics. Ties keep the lower triangle index. */
+   closest point and its barycentrics. Ties keep the lower triangle index. v and tris: those the
+   tree was last built or refitted over. */
 int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                     const float p[3], float radius_m, float q[3], float bary[3], float *dist_m);
 
