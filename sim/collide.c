@@ -424,6 +424,20 @@ float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3
     return dot3(d, pn) >= 0.0f ? dist : -dist;
 }
 
+/* The metric's bound for point i at p, whose contact search against this body frame gave t: t is
+   the nearest triangle of all (within reach, or at any distance), so its pseudo-normal signs the
+   distance exactly; none (-1) means nothing within reach and clearly outside. */
+static void set_clearance(sim_collider *c, int i, const float p[3], int t)
+{
+    float clear = c->d.thickness_m + c->d.reach_m;
+    if (t >= 0)
+        clear = sim_collider_signed_distance(c, t, p);
+    c->clear[i][0] = p[0];
+    c->clear[i][1] = p[1];
+    c->clear[i][2] = p[2];
+    c->clear[i][3] = c->nt > 0 ? clear : 0.0f;
+}
+
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end)
 {
     if (!c || !x)
@@ -439,19 +453,24 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
                                                  bary, &dist)
                           : -1;
         /* none within reach: far outside, or deep inside (then the nearest at any distance) */
-        float clear = reach; /* none within reach and clearly outside: outside by reach or more */
-        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i])) {
+        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
             t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
-            clear = 0.0f;
-        }
         c->contact[i] = t;
-        /* t is the nearest triangle of all, so its pseudo-normal signs the distance exactly */
-        if (t >= 0)
-            clear = sim_collider_signed_distance(c, t, x[i]);
-        c->clear[i][0] = x[i][0];
-        c->clear[i][1] = x[i][1];
-        c->clear[i][2] = x[i][2];
-        c->clear[i][3] = c->nt > 0 ? clear : 0.0f;
+        set_clearance(c, i, x[i], t);
+    }
+}
+
+void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
+                                 int begin, int end)
+{
+    if (!c || !x || !contact)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+#pragma omp parallel for schedule(static)
+    for (int i = begin; i < end; i++) {
+        int t = contact[i] >= 0 && contact[i] < c->nt ? contact[i] : -1;
+        c->contact[i] = t;
+        set_clearance(c, i, x[i], t);
     }
 }
 

@@ -73,6 +73,12 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
    the cache size (max_cloth, or sim_collider_reserve) are ignored. */
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
 
+/* The contacts of points [begin, end) at x found by a twin of sim_collider_find_contacts (the
+   OpenCL backend's device search against this body frame): cached as if found here, with the
+   bounds the penetration metric uses. */
+void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
+                                 int begin, int end);
+
 /* Cheap refresh between searches: from each cached triangle, walk over the body surface to the
    locally nearest triangle (-1 when it is beyond reach); points without a cached triangle get
    the full search. Exact outside a smooth patch (inside, any face may be a local minimum, which
