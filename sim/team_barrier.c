@@ -8,10 +8,14 @@
 
 #include "team_barrier.h"
 
-/* Spins before sleeping: some 10-30 us of pause instructions, a spring colour's worth of work,
-   so a partner that is running arrives within it; one that lost its core is not waited for by
-   burning this one (the sleep hands the core over). */
-#define SPINS_BEFORE_SLEEP 500
+/* Spins before sleeping, adapted per thread: doubled (up to SPINS_MAX, some 20-60 us of pause
+   instructions, a few spring colours' worth of work) after a wait the spin covered, halved (down
+   to SPINS_MIN) after one that had to sleep. On an idle machine the partner thread arrives within
+   microseconds and the spin catches it; when other work holds the cores the partner has often
+   lost its own, spinning would only delay it, and the budget shrinks to almost passive. */
+#define SPINS_MAX 1000
+#define SPINS_MIN 16
+static _Thread_local int spin_budget = SPINS_MAX / 2;
 
 static void cpu_relax(void)
 {
@@ -41,11 +45,14 @@ void sim_team_barrier_wait(sim_team_barrier *b)
             syscall(SYS_futex, &b->phase, FUTEX_WAKE_PRIVATE, INT_MAX, NULL, NULL, 0);
         return;
     }
-    for (int spin = 0; spin < SPINS_BEFORE_SLEEP; spin++) {
-        if (atomic_load(&b->phase) != phase)
+    for (int spin = 0; spin < spin_budget; spin++) {
+        if (atomic_load(&b->phase) != phase) {
+            spin_budget = spin_budget < SPINS_MAX / 2 ? 2 * spin_budget : SPINS_MAX;
             return;
+        }
         cpu_relax();
     }
+    spin_budget = spin_budget > 2 * SPINS_MIN ? spin_budget / 2 : SPINS_MIN;
     /* Sleep while the phase is still ours; the waker reads sleepers after advancing the phase
        (both seq_cst), so either it sees this sleeper or this futex call sees the new phase. */
     atomic_fetch_add(&b->sleepers, 1);
