@@ -194,11 +194,18 @@ static void body_store(sim_body *b, const float *xyz, int nv, const int32_t *tri
     }
     b->nv = nv;
     b->nt = nt;
-    for (int t = 0; t < nt; t++) {
+    for (int t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
             b->tris[t][k] = tris[t * 3 + k];
-        const float *p0 = b->v[tris[t * 3]], *p1 = b->v[tris[t * 3 + 1]],
-                    *p2 = b->v[tris[t * 3 + 2]];
+}
+
+/* Face normals of the triangles the attachments hang from (nothing else reads b->n; the collider
+   keeps its own normals of every triangle). */
+static void body_attachment_normals(sim_body *b, const sim_attachment *at, int na)
+{
+    for (int a = 0; a < na; a++) {
+        int t = at[a].body_triangle;
+        const float *p0 = b->v[b->tris[t][0]], *p1 = b->v[b->tris[t][1]], *p2 = b->v[b->tris[t][2]];
         float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
         float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
         float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
@@ -409,6 +416,7 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                               r == SIM_COLLIDE_EDEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
                               "body rejected by the collider: %s", sim_collide_error_str(r));
     body_store(&s->body, xyz, nv, tris, nt);
+    body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
     return 0;
