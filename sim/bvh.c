@@ -12,6 +12,8 @@
 /* Depth bound of an LBVH over 30-bit codes extended by a 32-bit index: each level lengthens the
    common prefix by at least one bit. */
 #define BVH_STACK 96
+/* The 4-wide search pushes at most three more nodes per level than it pops. */
+#define WIDE_STACK (3 * BVH_STACK)
 
 int sim_bvh_init(sim_bvh *b, int max_triangles)
 {
@@ -30,8 +32,9 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
     b->shi = malloc(nodes * sizeof *b->shi);
     b->counter = malloc(n * sizeof *b->counter);
     b->scratch = malloc(4 * n * sizeof *b->scratch);
+    b->wide = malloc(n * sizeof *b->wide);
     if (!b->morton || !b->order || !b->child || !b->parent || !b->lo || !b->hi || !b->slo ||
-        !b->shi || !b->counter || !b->scratch) {
+        !b->shi || !b->counter || !b->scratch || !b->wide) {
         sim_bvh_free(b);
         return SIM_COLLIDE_ENOMEM;
     }
@@ -52,6 +55,7 @@ void sim_bvh_free(sim_bvh *b)
     free(b->shi);
     free(b->counter);
     free(b->scratch);
+    free(b->wide);
     memset(b, 0, sizeof *b);
 }
 
@@ -165,6 +169,70 @@ static void build_node(sim_bvh *b, int i)
     b->parent[right] = i;
 }
 
+static int leaf_of(const sim_bvh *b, int node)
+{
+    if (b->n == 1)
+        return 0;
+    return node >= b->n - 1 ? node - (b->n - 1) : -1;
+}
+
+/* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i holds i's
+   children, each internal one replaced by its own two children. Every binary node is a slot or
+   expanded, so every leaf is reached once. Nodes are numbered in creation order; a node's
+   children come after it. */
+static void build_wide(sim_bvh *b)
+{
+    b->nwide = 0;
+    if (b->n < 2)
+        return;
+    /* wide[w].node[0] holds the binary node w stands for until its slots are filled */
+    b->wide[b->nwide++].node[0] = 0;
+    for (int w = 0; w < b->nwide; w++) {
+        sim_bvh_node4 *q = &b->wide[w];
+        int bin = q->node[0], count = 0;
+        for (int j = 0; j < 2; j++) {
+            int ch = b->child[bin][j];
+            if (leaf_of(b, ch) >= 0) {
+                q->node[count++] = ch;
+            } else {
+                q->node[count++] = b->child[ch][0];
+                q->node[count++] = b->child[ch][1];
+            }
+        }
+        q->count = count;
+        for (int k = 0; k < 4; k++) {
+            if (k >= count) {
+                q->node[k] = -1;
+                q->next[k] = -1;
+                continue;
+            }
+            int leaf = leaf_of(b, q->node[k]);
+            if (leaf >= 0) {
+                q->next[k] = -1 - leaf;
+            } else {
+                q->next[k] = b->nwide;
+                b->wide[b->nwide++].node[0] = q->node[k];
+            }
+        }
+    }
+}
+
+/* The refit's boxes into the 4-wide nodes; empty slots far away (never within any radius: the
+   search also stops at count). */
+static void refit_wide(sim_bvh *b)
+{
+#pragma omp parallel for schedule(static)
+    for (int w = 0; w < b->nwide; w++) {
+        sim_bvh_node4 *q = &b->wide[w];
+        for (int k = 0; k < 4; k++)
+            for (int a = 0; a < 3; a++) {
+                int bn = q->node[k];
+                q->lo[a][k] = bn >= 0 ? b->lo[bn][a] : FLT_MAX;
+                q->hi[a][k] = bn >= 0 ? b->hi[bn][a] : FLT_MAX;
+            }
+    }
+}
+
 void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
                    const int32_t (*tris)[4], int nt, float pad_m)
 {
@@ -197,7 +265,21 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
         for (int i = 0; i < nt - 1; i++)
             build_node(b, i);
     }
+    build_wide(b);
     sim_bvh_refit(b, v_prev, v, tris, pad_m);
+}
+
+/* fminf / fmaxf without the library call (they are not inlined: their NaN rules differ from
+   minss). The body is validated finite, and where fminf would tell -0 from +0 a box distance
+   cannot (p - -0 == p - +0), so the refit gives the same answers. */
+static float min2(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static float max2(float a, float b)
+{
+    return a > b ? a : b;
 }
 
 static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float (*v)[4],
@@ -207,12 +289,12 @@ static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float
     const int32_t *t = tris[b->order[leaf]];
     for (int k = 0; k < 3; k++) {
         float a = v[t[0]][k], c = v[t[1]][k], e = v[t[2]][k];
-        float lo = fminf(a, fminf(c, e)), hi = fmaxf(a, fmaxf(c, e));
+        float lo = min2(a, min2(c, e)), hi = max2(a, max2(c, e));
         b->lo[node][k] = lo;
         b->hi[node][k] = hi;
         a = v_prev[t[0]][k], c = v_prev[t[1]][k], e = v_prev[t[2]][k];
-        b->slo[node][k] = fminf(lo, fminf(a, fminf(c, e))) - pad_m;
-        b->shi[node][k] = fmaxf(hi, fmaxf(a, fmaxf(c, e))) + pad_m;
+        b->slo[node][k] = min2(lo, min2(a, min2(c, e))) - pad_m;
+        b->shi[node][k] = max2(hi, max2(a, max2(c, e))) + pad_m;
     }
     b->lo[node][3] = b->hi[node][3] = b->slo[node][3] = b->shi[node][3] = 0.0f;
 }
@@ -220,8 +302,8 @@ static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float
 static void merge_box(float (*lo)[4], float (*hi)[4], int node, int l, int r)
 {
     for (int k = 0; k < 4; k++) {
-        lo[node][k] = fminf(lo[l][k], lo[r][k]);
-        hi[node][k] = fmaxf(hi[l][k], hi[r][k]);
+        lo[node][k] = min2(lo[l][k], lo[r][k]);
+        hi[node][k] = max2(hi[l][k], hi[r][k]);
     }
 }
 
@@ -251,13 +333,7 @@ void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
             merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
         }
     }
-}
-
-static int leaf_of(const sim_bvh *b, int node)
-{
-    if (b->n == 1)
-        return 0;
-    return node >= b->n - 1 ? node - (b->n - 1) : -1;
+    refit_wide(b);
 }
 
 static float box_dist2(const float lo[4], const float hi[4], const float p[3])
@@ -268,6 +344,46 @@ static float box_dist2(const float lo[4], const float hi[4], const float p[3])
         d2 += e * e;
     }
     return d2;
+}
+
+/* GCC / Clang vector extension: four floats in one SSE register, lane by lane IEEE arithmetic
+   (so each lane is bit for bit what the scalar code computes). */
+typedef float f4 __attribute__((vector_size(16)));
+typedef int32_t i4 __attribute__((vector_size(16)));
+
+/* box_dist2 of a 4-wide node's four slots at once, without branches: at most one of below, above
+   is positive (lo <= hi), and a mask keeps it (0 otherwise), so each lane is box_dist2's gap. */
+static void wide_box_dist2(const sim_bvh_node4 *w, const float p[3], float out[4])
+{
+    f4 d2 = {0.0f, 0.0f, 0.0f, 0.0f}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (int a = 0; a < 3; a++) {
+        f4 lo, hi, pa = {p[a], p[a], p[a], p[a]};
+        memcpy(&lo, w->lo[a], sizeof lo);
+        memcpy(&hi, w->hi[a], sizeof hi);
+        f4 below = lo - pa, above = pa - hi;
+        i4 mb = below > zero, ma = above > zero;
+        f4 e = (f4)((i4)below & mb) + (f4)((i4)above & ma);
+        d2 += e * e;
+    }
+    memcpy(out, &d2, sizeof d2);
+}
+
+/* Sorted leaf i against the best so far: nearer, or as near with a lower triangle index. */
+static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                         const float p[3], int i, int *best, float *best_d2, float q[3],
+                         float bary[3])
+{
+    int t = b->order[i];
+    float cq[3], cb[3];
+    sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
+    float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
+    float d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 < *best_d2 || (d2 == *best_d2 && (*best < 0 || t < *best))) {
+        *best = t;
+        *best_d2 = d2;
+        memcpy(q, cq, sizeof cq);
+        memcpy(bary, cb, sizeof cb);
+    }
 }
 
 int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
@@ -298,46 +414,47 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
             memcpy(bary, cb, sizeof cb);
         }
     }
-    /* Nodes are pushed with their box distance, so a pop compares without recomputing, and a
-       child already farther than the best is never pushed. */
-    int stack[BVH_STACK], top = 0;
-    float sd[BVH_STACK];
-    stack[top] = 0;
-    sd[top++] = box_dist2(b->lo[0], b->hi[0], p);
-    while (top > 0) {
-        top--;
-        int node = stack[top];
-        if (sd[top] > best_d2)
-            continue;
-        int leaf = leaf_of(b, node);
-        if (leaf >= 0) {
-            int t = b->order[leaf];
-            float cq[3], cb[3];
-            sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
-            float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
-            float d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 < best_d2 || (d2 == best_d2 && (best < 0 || t < best))) {
-                best = t;
-                best_d2 = d2;
-                memcpy(q, cq, sizeof cq);
-                memcpy(bary, cb, sizeof cb);
+    if (b->n == 1) {
+        nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary);
+    } else {
+        /* Nodes are pushed with their box distance, so a pop compares without recomputing, and
+           a child already farther than the best is never pushed. */
+        int stack[WIDE_STACK], top = 0;
+        float sd[WIDE_STACK];
+        stack[top] = 0;
+        sd[top++] = box_dist2(b->lo[0], b->hi[0], p);
+        while (top > 0) {
+            top--;
+            if (sd[top] > best_d2)
+                continue;
+            const sim_bvh_node4 *w = &b->wide[stack[top]];
+            float d2[4];
+            wide_box_dist2(w, p, d2);
+            /* leaves now (best_d2 shrinks early); internal slots pushed farthest first, so the
+               nearest is popped first */
+            int in[4], nin = 0;
+            for (int k = 0; k < w->count; k++) {
+                if (!(d2[k] <= best_d2))
+                    continue;
+                if (w->next[k] < 0)
+                    nearest_leaf(b, v, tris, p, -1 - w->next[k], &best, &best_d2, q, bary);
+                else
+                    in[nin++] = k;
             }
-            continue;
-        }
-        int l = b->child[node][0], r = b->child[node][1];
-        float dl = box_dist2(b->lo[l], b->hi[l], p), dr = box_dist2(b->lo[r], b->hi[r], p);
-        if (top + 2 > BVH_STACK)
-            continue; /* cannot happen for trees built here (see BVH_STACK) */
-        /* The nearer child is popped first so best_d2 shrinks early. */
-        int near = dl <= dr ? l : r, far = dl <= dr ? r : l;
-        float dn = dl <= dr ? dl : dr, df = dl <= dr ? dr : dl;
-        if (df <= best_d2) {
-            stack[top] = far;
-            sd[top++] = df;
-        }
-        if (dn <= best_d2) {
-            stack[top] = near;
-            sd[top++] = dn;
+            if (top + nin > WIDE_STACK)
+                continue;                 /* cannot happen for trees built here (see WIDE_STACK) */
+            for (int i = 1; i < nin; i++) /* by distance, descending */
+                for (int j = i; j > 0 && d2[in[j]] > d2[in[j - 1]]; j--) {
+                    int t = in[j];
+                    in[j] = in[j - 1];
+                    in[j - 1] = t;
+                }
+            for (int i = 0; i < nin; i++) {
+                if (!(d2[in[i]] <= best_d2))
+                    continue;
+                stack[top] = w->next[in[i]];
+                sd[top++] = d2[in[i]];
+            }
         }
     }
     if (best >= 0 && dist_m)

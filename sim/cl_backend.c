@@ -28,7 +28,9 @@ typedef struct cl_state {
     cl_mem hier_level_start, hier_vertex, hier_parent_start, hier_parent, hier_rest;
     cl_kernel k_iter, k_attach;
     size_t group;
-    int32_t *moved; /* host copy of the per-point flags */
+    int32_t *moved;       /* host copy of the per-point flags */
+    int32_t *contact;     /* host copy of the frame's contacts, for the host metric */
+    float (*x_search)[4]; /* the cloth where the contacts were searched */
     char name[200];
 } cl_state;
 
@@ -62,6 +64,8 @@ static void cl_destroy(void *state)
     sim_cl_collide_destroy(&c->g);
     sim_cl_close(&c->cl);
     free(c->moved);
+    free(c->contact);
+    free(c->x_search);
     free(c);
 }
 
@@ -93,7 +97,17 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
 {
     const sim_cloth *k = &s->cloth;
     cl_state *c = calloc(1, sizeof *c);
-    if (!c || !(c->moved = calloc((size_t)k->nv, sizeof *c->moved))) {
+    if (c) {
+        c->moved = calloc((size_t)k->nv, sizeof *c->moved);
+        c->contact = calloc((size_t)k->nv, sizeof *c->contact);
+        c->x_search = calloc((size_t)k->nv, sizeof *c->x_search);
+    }
+    if (!c || !c->moved || !c->contact || !c->x_search) {
+        if (c) {
+            free(c->moved);
+            free(c->contact);
+            free(c->x_search);
+        }
         free(c);
         snprintf(err, err_size, "OpenCL backend: out of memory");
         return -SIM_ERR_NO_MEMORY;
@@ -305,8 +319,14 @@ static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     st->ms_feature_points = (float)(t1 - t0);
     if (sim_cl_collide_find_contacts(&c->g, c->x, 0, k->nv, col->d.thickness_m + col->d.reach_m))
         goto fail;
-    if (clFinish(c->cl.queue) != CL_SUCCESS)
+    /* the host metric starts from these contacts and their clearance (sim/penetration.c) */
+    size_t nbytes = (size_t)k->nv * 16;
+    if (clEnqueueReadBuffer(c->cl.queue, c->g.contact, CL_FALSE, 0, (size_t)k->nv * 4, c->contact,
+                            0, NULL, NULL) != CL_SUCCESS ||
+        clEnqueueReadBuffer(c->cl.queue, c->x, CL_TRUE, 0, nbytes, c->x_search, 0, NULL, NULL) !=
+            CL_SUCCESS)
         goto fail;
+    sim_collider_adopt_contacts(s->collider, (const float(*)[4])c->x_search, c->contact, 0, k->nv);
     double t2 = now_ms();
     st->ms_contacts = (float)(t2 - t1);
     size_t bytes = (size_t)k->nv * 16;

@@ -58,7 +58,7 @@ typedef struct sim_body {
     float (*v)[4];
     float (*v_prev)[4];
     int32_t (*tris)[4];
-    float (*n)[4];    /* face normals of frame k */
+    float (*n)[4];    /* face normals of frame k, of the attachments' triangles only */
     float max_move_m; /* the farthest any vertex moved from k-1 to k */
 } sim_body;
 

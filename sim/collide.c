@@ -89,6 +89,7 @@ void sim_collider_destroy(sim_collider *c)
     free(c->vt_list);
     free(c->edge_scratch);
     free(c->contact);
+    free(c->clear);
     sim_bvh_free(&c->bvh);
     free(c);
 }
@@ -102,9 +103,15 @@ int sim_collider_reserve(sim_collider *c, int max_cloth)
     int32_t *p = realloc(c->contact, (size_t)max_cloth * sizeof *p);
     if (!p)
         return SIM_COLLIDE_ENOMEM;
-    for (int i = c->max_cloth; i < max_cloth; i++)
-        p[i] = -1;
     c->contact = p;
+    float(*q)[4] = realloc(c->clear, (size_t)max_cloth * sizeof *q);
+    if (!q)
+        return SIM_COLLIDE_ENOMEM;
+    c->clear = q;
+    for (int i = c->max_cloth; i < max_cloth; i++) {
+        p[i] = -1;
+        q[i][3] = 0.0f;
+    }
     c->max_cloth = max_cloth;
     return 0;
 }
@@ -313,6 +320,8 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         return rc;
     int had_body = c->nt > 0;
     int same = same_topology(c, nv, tris, nt);
+    for (int i = 0; i < c->max_cloth; i++)
+        c->clear[i][3] = 0.0f; /* the bounds were for the old body frame */
     if (same) {
         float(*tv)[4] = c->v_prev;
         c->v_prev = c->v;
@@ -415,6 +424,20 @@ float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3
     return dot3(d, pn) >= 0.0f ? dist : -dist;
 }
 
+/* The metric's bound for point i at p, whose contact search against this body frame gave t: t is
+   the nearest triangle of all (within reach, or at any distance), so its pseudo-normal signs the
+   distance exactly; none (-1) means nothing within reach and clearly outside. */
+static void set_clearance(sim_collider *c, int i, const float p[3], int t)
+{
+    float clear = c->d.thickness_m + c->d.reach_m;
+    if (t >= 0)
+        clear = sim_collider_signed_distance(c, t, p);
+    c->clear[i][0] = p[0];
+    c->clear[i][1] = p[1];
+    c->clear[i][2] = p[2];
+    c->clear[i][3] = c->nt > 0 ? clear : 0.0f;
+}
+
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end)
 {
     if (!c || !x)
@@ -433,6 +456,21 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
         if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
             t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
         c->contact[i] = t;
+        set_clearance(c, i, x[i], t);
+    }
+}
+
+void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
+                                 int begin, int end)
+{
+    if (!c || !x || !contact)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+#pragma omp parallel for schedule(static)
+    for (int i = begin; i < end; i++) {
+        int t = contact[i] >= 0 && contact[i] < c->nt ? contact[i] : -1;
+        c->contact[i] = t;
+        set_clearance(c, i, x[i], t);
     }
 }
 

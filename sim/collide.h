@@ -73,6 +73,12 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
    the cache size (max_cloth, or sim_collider_reserve) are ignored. */
 void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end);
 
+/* The contacts of points [begin, end) at x found by a twin of sim_collider_find_contacts (the
+   OpenCL backend's device search against this body frame): cached as if found here, with the
+   bounds the penetration metric uses. */
+void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
+                                 int begin, int end);
+
 /* Cheap refresh between searches: from each cached triangle, walk over the body surface to the
    locally nearest triangle (-1 when it is beyond reach); points without a cached triangle get
    the full search. Exact outside a smooth patch (inside, any face may be a local minimum, which
@@ -139,7 +145,19 @@ struct sim_bvh {
     float pad;                  /* the thickness, m */
     int *counter;               /* per internal node, for the bottom-up refit */
     uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
+    /* The nearest search's 4-wide copy of the tree: each node holds a binary node's children or,
+       where those are internal, their children, so a descent pops half as many nodes and tests
+       four boxes at once. Shape built with the topology, boxes copied from lo/hi by the refit. */
+    struct sim_bvh_node4 *wide;
+    int nwide;
 };
+
+typedef struct sim_bvh_node4 {
+    float lo[3][4], hi[3][4]; /* [axis][slot]: static boxes of the slots' binary nodes */
+    int32_t node[4];          /* each slot's binary node */
+    int32_t next[4];          /* >= 0: the slot's 4-wide node; < 0: sorted leaf -1 - next */
+    int32_t count;            /* slots in use, 2..4 */
+} sim_bvh_node4;
 
 int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
 void sim_bvh_free(sim_bvh *b);
@@ -156,7 +174,8 @@ void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
 uint32_t sim_morton3(float x, float y, float z);
 
 /* Nearest triangle to p within radius_m (closest point distance); -1 when none. q and bary: the
-   closest point and its barycentrics. Ties keep the lower triangle index. */
+   closest point and its barycentrics. Ties keep the lower triangle index. v and tris: those the
+   tree was last built or refitted over. */
 int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                     const float p[3], float radius_m, float q[3], float bary[3], float *dist_m);
 
@@ -185,6 +204,12 @@ struct sim_collider {
     sim_bvh bvh;
     int32_t *contact; /* cached triangle per cloth point, -1 = none */
     int max_cloth;
+    /* Per cloth point, from its last full contact search against this body frame: xyz where the
+       point was, w a lower bound of its signed distance to the body there (> 0: outside by at
+       least w; <= 0: no bound). The signed distance is 1-Lipschitz, so a point now closer than w
+       to that place is still outside: the metric then needs no query of its own. Cleared by
+       sim_collider_set_body (a new body frame voids every bound). */
+    float (*clear)[4];
 };
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a

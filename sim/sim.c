@@ -52,6 +52,7 @@ int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
 }
 
 static void save_good(sim *s);
+static void keep_good(sim *s, float max_strain);
 
 sim_desc sim_default_desc(void)
 {
@@ -193,11 +194,18 @@ static void body_store(sim_body *b, const float *xyz, int nv, const int32_t *tri
     }
     b->nv = nv;
     b->nt = nt;
-    for (int t = 0; t < nt; t++) {
+    for (int t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
             b->tris[t][k] = tris[t * 3 + k];
-        const float *p0 = b->v[tris[t * 3]], *p1 = b->v[tris[t * 3 + 1]],
-                    *p2 = b->v[tris[t * 3 + 2]];
+}
+
+/* Face normals of the triangles the attachments hang from (nothing else reads b->n; the collider
+   keeps its own normals of every triangle). */
+static void body_attachment_normals(sim_body *b, const sim_attachment *at, int na)
+{
+    for (int a = 0; a < na; a++) {
+        int t = at[a].body_triangle;
+        const float *p0 = b->v[b->tris[t][0]], *p1 = b->v[b->tris[t][1]], *p2 = b->v[b->tris[t][2]];
         float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
         float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
         float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
@@ -365,13 +373,20 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
 }
 
-static void save_good(sim *s)
+/* The state becomes the last good one; max_strain is its max stretch strain. */
+static void keep_good(sim *s, float max_strain)
 {
-    float p99;
-    sim_strain_stats(&s->cloth, s->scratch, &s->strain_good, &p99);
+    s->strain_good = max_strain;
     size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_good;
     memcpy(s->x_good, s->cloth.x, bytes);
     memcpy(s->x_prev_good, s->cloth.x_prev, bytes);
+}
+
+static void save_good(sim *s)
+{
+    float max_strain, p99;
+    sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
+    keep_good(s, max_strain);
 }
 
 static void restore_good(sim *s)
@@ -401,6 +416,7 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                               r == SIM_COLLIDE_EDEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
                               "body rejected by the collider: %s", sim_collide_error_str(r));
     body_store(&s->body, xyz, nv, tris, nt);
+    body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
     return 0;
@@ -458,7 +474,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     sim_collider_penetration(s->collider, (const float(*)[4])s->cloth.x, s->cloth.nv, SIM_PEN_TOL_M,
                              &st->penetrating, &depth);
     st->max_pen_mm = depth * 1000.0f;
-    save_good(s);
+    keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
     double t3 = now_ms();
     st->ms_metrics = (float)(t3 - t2);
     st->ms_total = (float)(t3 - t0);

@@ -10,6 +10,7 @@
 #endif
 
 #include "cloth.h"
+#include "team_barrier.h"
 
 typedef struct c_state {
     float (*acc)[4];      /* seed: spring forces times dt^2 / m, per vertex */
@@ -113,15 +114,14 @@ static float frame_travel(const sim_cloth *c, int iters)
 }
 
 /* One Gauss-Seidel sweep of the strain limit over the stretch colours (inside a parallel
- * region: one worksharing loop per colour). */
-static void strain_limit_sweep(sim_cloth *c, float limit)
+ * region: each thread its share of a colour, the team barrier between colours). */
+static void strain_limit_sweep(sim_cloth *c, float limit, sim_team_barrier *bar)
 {
     for (int col = 0; col < c->num_stretch_colors; col++) {
-#pragma omp for schedule(static)
-        for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
-            int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
-            sim_strain_limit(c->x, c->ends, c->rest, c->kind, s0, s1, limit);
-        }
+        int sb, se, n0 = c->color_start[col];
+        thread_range(c->color_start[col + 1] - n0, &sb, &se);
+        sim_strain_limit(c->x, c->ends, c->rest, c->kind, n0 + sb, n0 + se, limit);
+        sim_team_barrier_wait(bar);
     }
 }
 
@@ -138,30 +138,39 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
      * point may approach the body unseen (0.03 m / 5 steps of 1.3 ms: 4.5 m/s). The body's own
      * motion is carried by the feature points. The seed searches every step. */
     int refresh = frame_travel(c, iters) > 0.5f * SIM_CONTACT_MARGIN ? SIM_CONTACT_EVERY : 0;
+    /* one barrier per colour: sim_team_barrier, not an OpenMP one (team_barrier.h) */
+    sim_team_barrier bar;
 #pragma omp parallel
     {
-        int vb, ve;
+        int vb, ve, first = 1;
         thread_range(c->nv, &vb, &ve);
+#ifdef _OPENMP
+        first = omp_get_thread_num() == 0;
+#pragma omp single
+        sim_team_barrier_init(&bar, omp_get_num_threads());
+#else
+        sim_team_barrier_init(&bar, 1);
+#endif
         for (int it = 0; it < iters; it++) {
             if (refresh && it > 0 && it % refresh == 0)
                 sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, vb, ve);
             sim_verlet(c->x, c->x_prev, vb, ve, keep, g);
-#pragma omp single
-            place_attachments(s, cs, it, iters);
+            if (first)
+                place_attachments(s, cs, it, iters);
+            sim_team_barrier_wait(&bar);
             for (int col = 0; col < c->num_colors; col++) {
-#pragma omp for schedule(static)
-                for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
-                    int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
-                    sim_project_springs(c->x, c->ends, c->rest, c->kind, alpha, s0, s1);
-                }
+                int sb, se, n0 = c->color_start[col];
+                thread_range(c->color_start[col + 1] - n0, &sb, &se);
+                sim_project_springs(c->x, c->ends, c->rest, c->kind, alpha, n0 + sb, n0 + se);
+                sim_team_barrier_wait(&bar);
             }
             /* the strain limit after shear and bend, which may stretch what it fixed */
-            strain_limit_sweep(c, limit);
+            strain_limit_sweep(c, limit, &bar);
             /* per vertex from here on: tethers (anchors are attached and do not move), then
              * the contacts, each thread on its own vertices */
             sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
             sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
-#pragma omp barrier
+            sim_team_barrier_wait(&bar);
         }
         /* Post-stabilisation of the strain limit (docs/sim.md): one Gauss-Seidel sweep per step
          * moves a correction about one spring, so a long region stretched a little stays
@@ -173,7 +182,7 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
 #pragma omp single
         sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
                              c->hier_rest, 0, c->hier_level_start[c->hier_levels], limit);
-        strain_limit_sweep(c, limit);
+        strain_limit_sweep(c, limit, &bar);
         sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
         sim_post_end(c->x, c->x_prev, vb, ve);
         sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);

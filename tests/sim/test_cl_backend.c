@@ -90,6 +90,10 @@ static void test_cl_backend_agrees_with_c(void **state)
         assert_int_equal(sim_step(so, moved, nv, tris, nt, &b, &why), 0);
         fp_c += a.feature_points_moved;
         fp_o += b.feature_points_moved;
+        /* the metric runs on the host for both, from each backend's own contacts */
+        assert_int_equal(a.penetrating, b.penetrating);
+        assert_float_equal(a.max_pen_mm, b.max_pen_mm, 1e-3f);
+        assert_float_equal(a.max_strain, b.max_strain, 1e-4f);
         const float *pc = sim_positions(sc), *po = sim_positions(so);
         for (int i = 0; i < 4 * sim_vertex_count(sc); i++)
             worst = fmaxf(worst, fabsf(pc[i] - po[i]));

@@ -332,6 +332,92 @@ static void test_collide_deep_points_are_pushed_out(void **state)
     sim_collider_destroy(c);
 }
 
+/* The metric's shortcut (a point the contact search saw outside by w that has moved less than w is
+   still outside) never hides a penetration: points found 5 mm or more outside a sphere are moved
+   towards their nearest surface point: staying, to 2 mm outside, to 2 mm inside; each time the
+   metric equals the unbounded search and, inside, counts every point. A new body frame voids the
+   bounds of the old one. */
+static void test_collide_penetration_clearance_never_hides_a_point(void **state)
+{
+    (void)state;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    const float r = 0.2f;
+    tc_sphere(r, 48, 24, &xyz, &nv, &tris, &nt);
+    sim_collider *c = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    static float x0[N][4], x[N][4];
+    uint32_t s = 77u;
+    for (int i = 0; i < N; i++) {
+        float dir[3], len;
+        do {
+            for (int k = 0; k < 3; k++)
+                dir[k] = tc_range(&s, -1.0f, 1.0f);
+            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        } while (len < 0.1f || len > 1.0f);
+        for (int k = 0; k < 3; k++)
+            x0[i][k] = dir[k] / len;
+    }
+    int cf, ce;
+    float df, de;
+    for (int m = 0; m < 3; m++) {
+        for (int i = 0; i < N; i++) {
+            for (int k = 0; k < 3; k++)
+                x[i][k] = x0[i][k] * (r + 0.005f);
+            x[i][3] = 1.0f;
+        }
+        sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+        if (m == 2) {
+            /* as the OpenCL backend hands over its device search: the same contacts, adopted */
+            static int32_t found[N];
+            memcpy(found, sim_collider_contacts(c), sizeof found);
+            sim_collider_adopt_contacts(c, (const float(*)[4])x, found, 0, N);
+        }
+        const float(*v)[4], (*vp)[4], (*n)[4];
+        const int32_t(*t)[4];
+        sim_collider_body(c, &v, &vp, &t, &n);
+        const int32_t *ct = sim_collider_contacts(c);
+        for (int i = 0; i < N; i++) {
+            float q[3], b[3], d[3];
+            assert_true(ct[i] >= 0);
+            sim_closest_on_triangle(x[i], v[t[ct[i]][0]], v[t[ct[i]][1]], v[t[ct[i]][2]], q, b);
+            for (int k = 0; k < 3; k++)
+                d[k] = x[i][k] - q[k];
+            float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            assert_true(len > 0.0049f);
+            float to = m == 0 ? len : (m == 1 ? 0.002f : -0.002f);
+            for (int k = 0; k < 3; k++)
+                x[i][k] = q[k] + d[k] / len * to;
+        }
+        assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, N, 0.001f, &cf, &df), 0);
+        assert_int_equal(
+            sim_collider_penetration_exact(c, (const float(*)[4])x, N, 0.001f, &ce, &de), 0);
+        assert_int_equal(cf, ce);
+        assert_float_equal(df, de, 1e-6f);
+        assert_int_equal(cf, m == 2 ? N : 0);
+        assert_true(m < 2 || df > 0.0019f);
+    }
+    /* a new body frame: points seen 5 mm outside, then the sphere moves 1 cm along +x, so those
+       on its +x side are inside; the bounds of the old frame must not hide them */
+    for (int i = 0; i < N; i++)
+        for (int k = 0; k < 3; k++)
+            x[i][k] = x0[i][k] * (r + 0.005f);
+    sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
+    for (int i = 0; i < nv; i++)
+        xyz[3 * i] += 0.01f;
+    assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), 0);
+    assert_int_equal(sim_collider_penetration(c, (const float(*)[4])x, N, 0.001f, &cf, &df), 0);
+    assert_int_equal(sim_collider_penetration_exact(c, (const float(*)[4])x, N, 0.001f, &ce, &de),
+                     0);
+    assert_int_equal(cf, ce);
+    assert_float_equal(df, de, 1e-6f);
+    assert_true(ce > 0 && ce < N);
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -342,6 +428,7 @@ int main(void)
         cmocka_unit_test(test_collide_track_contacts_matches_search_on_smooth_body),
         cmocka_unit_test(test_collide_penetration_fast_equals_exact),
         cmocka_unit_test(test_collide_deep_points_are_pushed_out),
+        cmocka_unit_test(test_collide_penetration_clearance_never_hides_a_point),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
