@@ -1,8 +1,66 @@
 /* The C twins of kernels/springs.cl: integration and the spring passes. Same names, same order of
  * operations; each function handles a range so the caller can split it over threads. */
 #include <math.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "cloth.h"
+
+#if defined(__SSE2__)
+/* Four springs of one colour at a time (they share no vertex): the ends gathered as float4, the
+ * scalar code's operations lane by lane in the same order (no FMA, IEEE sqrt and division), so
+ * every bit matches the scalar loop and kernels/springs.cl. */
+typedef struct spring4 {
+    __m128 xi[4], xj[4]; /* the ends as stored, w = inverse mass */
+    __m128 dx, dy, dz;   /* x[j] - x[i] per lane */
+    __m128 wi, wj;
+} spring4;
+
+static inline void spring4_load(spring4 *q, const float (*x)[4], const int32_t (*ends)[2], int s)
+{
+    __m128 d[4];
+    for (int k = 0; k < 4; k++) {
+        q->xi[k] = _mm_loadu_ps(x[ends[s + k][0]]);
+        q->xj[k] = _mm_loadu_ps(x[ends[s + k][1]]);
+        d[k] = _mm_sub_ps(q->xj[k], q->xi[k]);
+    }
+    _MM_TRANSPOSE4_PS(d[0], d[1], d[2], d[3]);
+    q->dx = d[0], q->dy = d[1], q->dz = d[2];
+    /* the w lanes: unpackhi gives (z0, z1, w0, w1), movehl takes the upper halves */
+    q->wi = _mm_movehl_ps(_mm_unpackhi_ps(q->xi[2], q->xi[3]), _mm_unpackhi_ps(q->xi[0], q->xi[1]));
+    q->wj = _mm_movehl_ps(_mm_unpackhi_ps(q->xj[2], q->xj[3]), _mm_unpackhi_ps(q->xj[0], q->xj[1]));
+}
+
+/* x[i] += d c wi, x[j] -= d c wj for the lanes in mask (bit k = spring s + k); w kept. */
+static inline void spring4_move(const spring4 *q, float (*x)[4], const int32_t (*ends)[2], int s,
+                                __m128 c, int mask)
+{
+    __m128 tx = _mm_mul_ps(q->dx, c), ty = _mm_mul_ps(q->dy, c), tz = _mm_mul_ps(q->dz, c);
+    __m128 a[4] = {_mm_mul_ps(tx, q->wi), _mm_mul_ps(ty, q->wi), _mm_mul_ps(tz, q->wi),
+                   _mm_setzero_ps()};
+    __m128 b[4] = {_mm_mul_ps(tx, q->wj), _mm_mul_ps(ty, q->wj), _mm_mul_ps(tz, q->wj),
+                   _mm_setzero_ps()};
+    _MM_TRANSPOSE4_PS(a[0], a[1], a[2], a[3]);
+    _MM_TRANSPOSE4_PS(b[0], b[1], b[2], b[3]);
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    for (int k = 0; k < 4; k++) {
+        if (!(mask >> k & 1))
+            continue;
+        __m128 ni = _mm_add_ps(q->xi[k], a[k]), nj = _mm_sub_ps(q->xj[k], b[k]);
+        ni = _mm_or_ps(_mm_and_ps(xyz, ni), _mm_andnot_ps(xyz, q->xi[k]));
+        nj = _mm_or_ps(_mm_and_ps(xyz, nj), _mm_andnot_ps(xyz, q->xj[k]));
+        _mm_storeu_ps(x[ends[s + k][0]], ni);
+        _mm_storeu_ps(x[ends[s + k][1]], nj);
+    }
+}
+
+static inline __m128 spring4_len(const spring4 *q)
+{
+    return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(q->dx, q->dx), _mm_mul_ps(q->dy, q->dy)),
+                                  _mm_mul_ps(q->dz, q->dz)));
+}
+#endif
 
 void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
                 const float accel_dt2[3])
@@ -95,7 +153,26 @@ void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *r
                          const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int begin,
                          int end)
 {
-    for (int s = begin; s < end; s++) {
+    int s = begin;
+#if defined(__SSE2__)
+    for (; s + 4 <= end; s += 4) {
+        spring4 q;
+        spring4_load(&q, (const float(*)[4])x, ends, s);
+        __m128 al =
+            _mm_set_ps(alpha[kind[s + 3]], alpha[kind[s + 2]], alpha[kind[s + 1]], alpha[kind[s]]);
+        __m128 w2 = _mm_add_ps(q.wi, q.wj);
+        __m128 wsum = _mm_add_ps(w2, al);
+        __m128 len = spring4_len(&q);
+        /* the scalar loop's skips: wi + wj == 0, len < 1e-9 (a NaN goes on, as there) */
+        int mask = _mm_movemask_ps(_mm_and_ps(_mm_cmpneq_ps(w2, _mm_setzero_ps()),
+                                              _mm_cmpnlt_ps(len, _mm_set1_ps(1e-9f))));
+        if (!mask)
+            continue;
+        __m128 c = _mm_div_ps(_mm_sub_ps(len, _mm_loadu_ps(rest + s)), _mm_mul_ps(len, wsum));
+        spring4_move(&q, x, ends, s, c, mask);
+    }
+#endif
+    for (; s < end; s++) {
         int i = ends[s][0], j = ends[s][1];
         float wi = x[i][3], wj = x[j][3];
         float wsum = wi + wj + alpha[kind[s]];
@@ -117,7 +194,28 @@ void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *r
 void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end, float limit)
 {
-    for (int s = begin; s < end; s++) {
+    int s = begin;
+#if defined(__SSE2__)
+    const __m128 scale = _mm_set1_ps(1.0f + limit);
+    for (; s + 4 <= end; s += 4) {
+        spring4 q;
+        spring4_load(&q, (const float(*)[4])x, ends, s);
+        __m128 wsum = _mm_add_ps(q.wi, q.wj);
+        __m128 len = spring4_len(&q);
+        __m128 lmax = _mm_mul_ps(_mm_loadu_ps(rest + s), scale);
+        /* the scalar loop's skips: not stretch, wsum == 0, len <= lmax (a NaN goes on) */
+        int mask = _mm_movemask_ps(
+            _mm_and_ps(_mm_cmpneq_ps(wsum, _mm_setzero_ps()), _mm_cmpnle_ps(len, lmax)));
+        for (int k = 0; k < 4; k++)
+            if (kind[s + k] != SIM_SPRING_STRETCH)
+                mask &= ~(1 << k);
+        if (!mask)
+            continue;
+        __m128 c = _mm_div_ps(_mm_sub_ps(len, lmax), _mm_mul_ps(len, wsum));
+        spring4_move(&q, x, ends, s, c, mask);
+    }
+#endif
+    for (; s < end; s++) {
         if (kind[s] != SIM_SPRING_STRETCH)
             continue;
         int i = ends[s][0], j = ends[s][1];
