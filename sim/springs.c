@@ -285,7 +285,43 @@ void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end)
 void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int begin, int end,
                  float limit)
 {
-    for (int i = begin; i < end; i++) {
+    int i = begin;
+#if defined(__SSE2__)
+    /* four vertices at a time, as the springs: each lane the scalar loop's operations */
+    const __m128 scale = _mm_set1_ps(1.0f + limit);
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    for (; i + 4 <= end; i += 4) {
+        __m128 xi[4], d[4];
+        int mask = 0;
+        for (int k = 0; k < 4; k++) {
+            int a = anchor[i + k];
+            xi[k] = _mm_loadu_ps(x[i + k]);
+            if (a >= 0 && x[i + k][3] != 0.0f)
+                mask |= 1 << k;
+            d[k] = _mm_sub_ps(xi[k], _mm_loadu_ps(x[a >= 0 ? a : i + k]));
+        }
+        if (!mask)
+            continue;
+        _MM_TRANSPOSE4_PS(d[0], d[1], d[2], d[3]);
+        __m128 l = _mm_sqrt_ps(_mm_add_ps(
+            _mm_add_ps(_mm_mul_ps(d[0], d[0]), _mm_mul_ps(d[1], d[1])), _mm_mul_ps(d[2], d[2])));
+        __m128 lmax = _mm_mul_ps(_mm_loadu_ps(len + i), scale);
+        mask &= _mm_movemask_ps(_mm_cmpnle_ps(l, lmax)); /* l <= lmax: in reach (a NaN goes on) */
+        if (!mask)
+            continue;
+        __m128 c = _mm_div_ps(_mm_sub_ps(l, lmax), l);
+        __m128 t[4] = {_mm_mul_ps(d[0], c), _mm_mul_ps(d[1], c), _mm_mul_ps(d[2], c),
+                       _mm_setzero_ps()};
+        _MM_TRANSPOSE4_PS(t[0], t[1], t[2], t[3]);
+        for (int k = 0; k < 4; k++) {
+            if (!(mask >> k & 1))
+                continue;
+            __m128 n = _mm_sub_ps(xi[k], t[k]);
+            _mm_storeu_ps(x[i + k], _mm_or_ps(_mm_and_ps(xyz, n), _mm_andnot_ps(xyz, xi[k])));
+        }
+    }
+#endif
+    for (; i < end; i++) {
         int a = anchor[i];
         if (a < 0 || x[i][3] == 0.0f)
             continue;
