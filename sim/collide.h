@@ -210,6 +210,13 @@ struct sim_collider {
        to that place is still outside: the metric then needs no query of its own. Cleared by
        sim_collider_set_body (a new body frame voids every bound). */
     float (*clear)[4];
+    /* Per cloth point, from its last response that moved nothing (sim_collider_resolve): xyz where
+       the point was, w a radius within which the response against triangle key[0] of body frame
+       key[1] (body_epoch) is sure to move nothing again (w <= 0: none). Written by the resolve of
+       that point's owner only; a new body frame voids it through the epoch. */
+    float (*quiet)[4];
+    int32_t (*quiet_key)[2];
+    int32_t body_epoch; /* incremented by every sim_collider_set_body */
 };
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a
