@@ -597,6 +597,43 @@ static float quiet_radius(const sim_collider *c, int t, float dist, const float 
     return r > 0.0f ? r : 0.0f;
 }
 
+/* The same for a point whose closest point q lies on an edge or a vertex of t (d = p - q, len =
+   |d| >= thickness, signed positive by the feature's pseudo-normal). As p moves by r, d moves by
+   at most 2 r (the closest point on a triangle is 1-Lipschitz in p), so d stays on the positive
+   side of every pseudo-normal of t (face, edges, vertices) with more margin than 2 r, whichever
+   feature q then lies on, and len stays above thickness while r < len - thickness. */
+static float quiet_radius_feature(const sim_collider *c, int t, const float d[3], float len)
+{
+    const int32_t *f = c->tris[t];
+    const float *a = c->v[f[0]], *b = c->v[f[1]], *p = c->v[f[2]];
+    float ab[3], ac[3], bc[3];
+    sub3(b, a, ab);
+    sub3(p, a, ac);
+    sub3(p, b, bc);
+    float r = len - c->d.thickness_m;
+    if (!(r > QUIET_EPS_M))
+        return 0.0f;
+    /* the region tests need the same accuracy as for the face */
+    float cr[3];
+    cross3(ab, ac, cr);
+    float area2 = sqrtf(dot3(cr, cr));
+    if (!(area2 / sqrtf(dot3(bc, bc)) >= QUIET_MIN_HEIGHT_M &&
+          area2 / sqrtf(dot3(ac, ac)) >= QUIET_MIN_HEIGHT_M &&
+          area2 / sqrtf(dot3(ab, ab)) >= QUIET_MIN_HEIGHT_M))
+        return 0.0f;
+    for (int region = SIM_REGION_FACE; region <= SIM_REGION_E20; region++) {
+        float pn[3];
+        sim_collider_pseudo_normal(c, t, region, pn);
+        float pl = sqrtf(dot3(pn, pn));
+        if (!(pl > 0.0f))
+            return 0.0f;
+        float m = 0.5f * dot3(d, pn) / pl;
+        r = m < r ? m : r;
+    }
+    r -= QUIET_EPS_M;
+    return r > 0.0f ? r : 0.0f;
+}
+
 /* One point against its cached triangle: out to thickness along the contact normal, then
    Coulomb-like friction on the motion since x_prev, bounded by friction * the push. Returns the
    quiet radius when it moved nothing (0 when it did, or none is known). */
@@ -627,7 +664,8 @@ static float resolve_point(const sim_collider *c, int t, float *x, float *x_prev
     }
     float push = c->d.thickness_m - dist;
     if (!(push > 0.0f))
-        return region == SIM_REGION_FACE ? quiet_radius(c, t, dist, bary) : 0.0f;
+        return region == SIM_REGION_FACE ? quiet_radius(c, t, dist, bary)
+                                         : quiet_radius_feature(c, t, d, dist);
     for (int k = 0; k < 3; k++)
         x[k] += push * nrm[k];
     float rel[3], tan[3];
