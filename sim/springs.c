@@ -4,6 +4,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SIM_HAVE_AVX_PATH 1 /* an AVX clone of the spring loops, chosen at run time */
+#endif
 
 #include "cloth.h"
 
@@ -59,6 +63,129 @@ static inline __m128 spring4_len(const spring4 *q)
 {
     return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(q->dx, q->dx), _mm_mul_ps(q->dy, q->dy)),
                                   _mm_mul_ps(q->dz, q->dz)));
+}
+#endif
+
+#ifdef SIM_HAVE_AVX_PATH
+/* Eight springs at a time with AVX (the build is generic x86-64; the CPU is asked at run time):
+ * springs k and k + 4 share a register, one in each 128-bit half, and every operation is the
+ * scalar one lane by lane as in spring4. */
+#define AVX __attribute__((target("avx")))
+
+/* rows r0..r3 (x, y, z, w) to columns, in each 128-bit half */
+#define TRANSPOSE8(r0, r1, r2, r3)                                                                 \
+    do {                                                                                           \
+        __m256 t0_ = _mm256_unpacklo_ps(r0, r1), t1_ = _mm256_unpacklo_ps(r2, r3);                 \
+        __m256 t2_ = _mm256_unpackhi_ps(r0, r1), t3_ = _mm256_unpackhi_ps(r2, r3);                 \
+        r0 = _mm256_shuffle_ps(t0_, t1_, _MM_SHUFFLE(1, 0, 1, 0));                                 \
+        r1 = _mm256_shuffle_ps(t0_, t1_, _MM_SHUFFLE(3, 2, 3, 2));                                 \
+        r2 = _mm256_shuffle_ps(t2_, t3_, _MM_SHUFFLE(1, 0, 1, 0));                                 \
+        r3 = _mm256_shuffle_ps(t2_, t3_, _MM_SHUFFLE(3, 2, 3, 2));                                 \
+    } while (0)
+
+typedef struct spring8 {
+    __m128 xi[8], xj[8];
+    __m256 dx, dy, dz, wi, wj;
+} spring8;
+
+static inline AVX void spring8_load(spring8 *q, const float (*x)[4], const int32_t (*ends)[2],
+                                    int s)
+{
+    for (int k = 0; k < 8; k++) {
+        q->xi[k] = _mm_loadu_ps(x[ends[s + k][0]]);
+        q->xj[k] = _mm_loadu_ps(x[ends[s + k][1]]);
+    }
+    __m256 i[4], j[4], d[4];
+    for (int k = 0; k < 4; k++) {
+        i[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(q->xi[k]), q->xi[k + 4], 1);
+        j[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(q->xj[k]), q->xj[k + 4], 1);
+        d[k] = _mm256_sub_ps(j[k], i[k]);
+    }
+    TRANSPOSE8(d[0], d[1], d[2], d[3]);
+    TRANSPOSE8(i[0], i[1], i[2], i[3]);
+    TRANSPOSE8(j[0], j[1], j[2], j[3]);
+    q->dx = d[0], q->dy = d[1], q->dz = d[2], q->wi = i[3], q->wj = j[3];
+}
+
+static inline AVX __m256 spring8_len(const spring8 *q)
+{
+    return _mm256_sqrt_ps(
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(q->dx, q->dx), _mm256_mul_ps(q->dy, q->dy)),
+                      _mm256_mul_ps(q->dz, q->dz)));
+}
+
+static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32_t (*ends)[2],
+                                    int s, __m256 c, int mask)
+{
+    __m256 tx = _mm256_mul_ps(q->dx, c), ty = _mm256_mul_ps(q->dy, c), tz = _mm256_mul_ps(q->dz, c);
+    __m256 a[4] = {_mm256_mul_ps(tx, q->wi), _mm256_mul_ps(ty, q->wi), _mm256_mul_ps(tz, q->wi),
+                   _mm256_setzero_ps()};
+    __m256 b[4] = {_mm256_mul_ps(tx, q->wj), _mm256_mul_ps(ty, q->wj), _mm256_mul_ps(tz, q->wj),
+                   _mm256_setzero_ps()};
+    TRANSPOSE8(a[0], a[1], a[2], a[3]);
+    TRANSPOSE8(b[0], b[1], b[2], b[3]);
+    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    for (int k = 0; k < 8; k++) {
+        if (!(mask >> k & 1))
+            continue;
+        __m128 ak = k < 4 ? _mm256_castps256_ps128(a[k]) : _mm256_extractf128_ps(a[k - 4], 1);
+        __m128 bk = k < 4 ? _mm256_castps256_ps128(b[k]) : _mm256_extractf128_ps(b[k - 4], 1);
+        __m128 ni = _mm_add_ps(q->xi[k], ak), nj = _mm_sub_ps(q->xj[k], bk);
+        ni = _mm_or_ps(_mm_and_ps(xyz, ni), _mm_andnot_ps(xyz, q->xi[k]));
+        nj = _mm_or_ps(_mm_and_ps(xyz, nj), _mm_andnot_ps(xyz, q->xj[k]));
+        _mm_storeu_ps(x[ends[s + k][0]], ni);
+        _mm_storeu_ps(x[ends[s + k][1]], nj);
+    }
+}
+
+/* sim_project_springs over [s, end) eight at a time; returns where it stopped. */
+static AVX int project8(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                        const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int s, int end)
+{
+    for (; s + 8 <= end; s += 8) {
+        spring8 q;
+        spring8_load(&q, (const float(*)[4])x, ends, s);
+        __m256 al = _mm256_set_ps(alpha[kind[s + 7]], alpha[kind[s + 6]], alpha[kind[s + 5]],
+                                  alpha[kind[s + 4]], alpha[kind[s + 3]], alpha[kind[s + 2]],
+                                  alpha[kind[s + 1]], alpha[kind[s]]);
+        __m256 w2 = _mm256_add_ps(q.wi, q.wj);
+        __m256 wsum = _mm256_add_ps(w2, al);
+        __m256 len = spring8_len(&q);
+        int mask = _mm256_movemask_ps(
+            _mm256_and_ps(_mm256_cmp_ps(w2, _mm256_setzero_ps(), _CMP_NEQ_UQ),
+                          _mm256_cmp_ps(len, _mm256_set1_ps(1e-9f), _CMP_NLT_UQ)));
+        if (!mask)
+            continue;
+        __m256 c =
+            _mm256_div_ps(_mm256_sub_ps(len, _mm256_loadu_ps(rest + s)), _mm256_mul_ps(len, wsum));
+        spring8_move(&q, x, ends, s, c, mask);
+    }
+    return s;
+}
+
+/* sim_strain_limit over [s, end) eight at a time; returns where it stopped. */
+static AVX int strain8(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                       const uint8_t *kind, int s, int end, float limit)
+{
+    const __m256 scale = _mm256_set1_ps(1.0f + limit);
+    for (; s + 8 <= end; s += 8) {
+        spring8 q;
+        spring8_load(&q, (const float(*)[4])x, ends, s);
+        __m256 wsum = _mm256_add_ps(q.wi, q.wj);
+        __m256 len = spring8_len(&q);
+        __m256 lmax = _mm256_mul_ps(_mm256_loadu_ps(rest + s), scale);
+        int mask =
+            _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(wsum, _mm256_setzero_ps(), _CMP_NEQ_UQ),
+                                             _mm256_cmp_ps(len, lmax, _CMP_NLE_UQ)));
+        for (int k = 0; k < 8; k++)
+            if (kind[s + k] != SIM_SPRING_STRETCH)
+                mask &= ~(1 << k);
+        if (!mask)
+            continue;
+        __m256 c = _mm256_div_ps(_mm256_sub_ps(len, lmax), _mm256_mul_ps(len, wsum));
+        spring8_move(&q, x, ends, s, c, mask);
+    }
+    return s;
 }
 #endif
 
@@ -154,6 +281,10 @@ void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *r
                          int end)
 {
     int s = begin;
+#ifdef SIM_HAVE_AVX_PATH
+    if (__builtin_cpu_supports("avx"))
+        s = project8(x, ends, rest, kind, alpha, s, end);
+#endif
 #if defined(__SSE2__)
     for (; s + 4 <= end; s += 4) {
         spring4 q;
@@ -195,6 +326,10 @@ void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest
                       const uint8_t *kind, int begin, int end, float limit)
 {
     int s = begin;
+#ifdef SIM_HAVE_AVX_PATH
+    if (__builtin_cpu_supports("avx"))
+        s = strain8(x, ends, rest, kind, s, end, limit);
+#endif
 #if defined(__SSE2__)
     const __m128 scale = _mm_set1_ps(1.0f + limit);
     for (; s + 4 <= end; s += 4) {
