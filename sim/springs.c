@@ -84,27 +84,27 @@ static inline __m128 spring4_len(const spring4 *q)
     } while (0)
 
 typedef struct spring8 {
-    __m128 xi[8], xj[8];
+    __m256 xi[4], xj[4]; /* the ends as stored, springs k and k + 4 in xi[k] */
     __m256 dx, dy, dz, wi, wj;
 } spring8;
 
 static inline AVX void spring8_load(spring8 *q, const float (*x)[4], const int32_t (*ends)[2],
                                     int s)
 {
-    for (int k = 0; k < 8; k++) {
-        q->xi[k] = _mm_loadu_ps(x[ends[s + k][0]]);
-        q->xj[k] = _mm_loadu_ps(x[ends[s + k][1]]);
-    }
-    __m256 i[4], j[4], d[4];
+    __m256 d[4];
     for (int k = 0; k < 4; k++) {
-        i[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(q->xi[k]), q->xi[k + 4], 1);
-        j[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(q->xj[k]), q->xj[k + 4], 1);
-        d[k] = _mm256_sub_ps(j[k], i[k]);
+        q->xi[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(x[ends[s + k][0]])),
+                                        _mm_loadu_ps(x[ends[s + k + 4][0]]), 1);
+        q->xj[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(x[ends[s + k][1]])),
+                                        _mm_loadu_ps(x[ends[s + k + 4][1]]), 1);
+        d[k] = _mm256_sub_ps(q->xj[k], q->xi[k]);
     }
     TRANSPOSE8(d[0], d[1], d[2], d[3]);
-    TRANSPOSE8(i[0], i[1], i[2], i[3]);
-    TRANSPOSE8(j[0], j[1], j[2], j[3]);
-    q->dx = d[0], q->dy = d[1], q->dz = d[2], q->wi = i[3], q->wj = j[3];
+    q->dx = d[0], q->dy = d[1], q->dz = d[2];
+    q->wi = _mm256_shuffle_ps(_mm256_unpackhi_ps(q->xi[0], q->xi[1]),
+                              _mm256_unpackhi_ps(q->xi[2], q->xi[3]), _MM_SHUFFLE(3, 2, 3, 2));
+    q->wj = _mm256_shuffle_ps(_mm256_unpackhi_ps(q->xj[0], q->xj[1]),
+                              _mm256_unpackhi_ps(q->xj[2], q->xj[3]), _MM_SHUFFLE(3, 2, 3, 2));
 }
 
 static inline AVX __m256 spring8_len(const spring8 *q)
@@ -114,6 +114,8 @@ static inline AVX __m256 spring8_len(const spring8 *q)
                       _mm256_mul_ps(q->dz, q->dz)));
 }
 
+/* x[i] += d c wi, x[j] -= d c wj for the lanes in mask. The w lane gets w + 0 (w - 0 at j),
+ * which is w itself: an inverse mass is +0 or positive, never -0 (sim_cloth_init). */
 static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32_t (*ends)[2],
                                     int s, __m256 c, int mask)
 {
@@ -124,17 +126,16 @@ static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32
                    _mm256_setzero_ps()};
     TRANSPOSE8(a[0], a[1], a[2], a[3]);
     TRANSPOSE8(b[0], b[1], b[2], b[3]);
-    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
-    for (int k = 0; k < 8; k++) {
-        if (!(mask >> k & 1))
-            continue;
-        __m128 ak = k < 4 ? _mm256_castps256_ps128(a[k]) : _mm256_extractf128_ps(a[k - 4], 1);
-        __m128 bk = k < 4 ? _mm256_castps256_ps128(b[k]) : _mm256_extractf128_ps(b[k - 4], 1);
-        __m128 ni = _mm_add_ps(q->xi[k], ak), nj = _mm_sub_ps(q->xj[k], bk);
-        ni = _mm_or_ps(_mm_and_ps(xyz, ni), _mm_andnot_ps(xyz, q->xi[k]));
-        nj = _mm_or_ps(_mm_and_ps(xyz, nj), _mm_andnot_ps(xyz, q->xj[k]));
-        _mm_storeu_ps(x[ends[s + k][0]], ni);
-        _mm_storeu_ps(x[ends[s + k][1]], nj);
+    for (int k = 0; k < 4; k++) {
+        __m256 ni = _mm256_add_ps(q->xi[k], a[k]), nj = _mm256_sub_ps(q->xj[k], b[k]);
+        if (mask >> k & 1) {
+            _mm_storeu_ps(x[ends[s + k][0]], _mm256_castps256_ps128(ni));
+            _mm_storeu_ps(x[ends[s + k][1]], _mm256_castps256_ps128(nj));
+        }
+        if (mask >> (k + 4) & 1) {
+            _mm_storeu_ps(x[ends[s + k + 4][0]], _mm256_extractf128_ps(ni, 1));
+            _mm_storeu_ps(x[ends[s + k + 4][1]], _mm256_extractf128_ps(nj, 1));
+        }
     }
 }
 
