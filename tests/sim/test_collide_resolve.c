@@ -180,6 +180,70 @@ static void test_collide_resolve_clears_sphere_shell(void **state)
     sim_collider_destroy(c);
 }
 
+/* The response skips a point still within its quiet radius; that must change nothing. On a bumpy
+   sphere (concave and convex edges), points drift in small random steps; one collider keeps its
+   quiet radii, the other has them voided before every response (a new body frame, the same body):
+   positions and previous positions equal bit for bit after every step. */
+static void test_collide_quiet_response_equals_full_response(void **state)
+{
+    (void)state;
+    float *xyz;
+    int32_t *tris;
+    int nv, nt;
+    tc_sphere(0.15f, 32, 16, &xyz, &nv, &tris, &nt);
+    uint32_t s = 23u;
+    for (int i = 0; i < nv; i++) {
+        float f = tc_range(&s, 0.85f, 1.15f);
+        for (int k = 0; k < 3; k++)
+            xyz[3 * i + k] *= f;
+    }
+    sim_collider *a = make(nv, nt, 0.3f), *b = make(nv, nt, 0.3f);
+    assert_int_equal(sim_collider_set_body(a, xyz, nv, tris, nt), 0);
+    assert_int_equal(sim_collider_set_body(b, xyz, nv, tris, nt), 0);
+    static float xa[N][4], pa[N][4], xb[N][4], pb[N][4];
+    for (int i = 0; i < N; i++) {
+        float dir[3], len;
+        do {
+            for (int k = 0; k < 3; k++)
+                dir[k] = tc_range(&s, -1.0f, 1.0f);
+            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        } while (len < 0.1f || len > 1.0f);
+        float rad = tc_range(&s, 0.12f, 0.20f);
+        for (int k = 0; k < 3; k++)
+            xa[i][k] = dir[k] / len * rad;
+        xa[i][3] = 1.0f;
+    }
+    memcpy(pa, xa, sizeof xa);
+    int quiet = 0;
+    for (int step = 0; step < 60; step++) {
+        if (step % 20 == 0) { /* a contact search now and then, as the solver does */
+            sim_collider_find_contacts(a, (const float(*)[4])xa, 0, N);
+            memcpy(xb, xa, sizeof xa);
+            memcpy(pb, pa, sizeof pa);
+            sim_collider_find_contacts(b, (const float(*)[4])xb, 0, N);
+        }
+        for (int i = 0; i < N; i++) /* drift inwards, a few tenths of a mm a step */
+            for (int k = 0; k < 3; k++) {
+                pa[i][k] = xa[i][k];
+                xa[i][k] += tc_range(&s, -3e-4f, 3e-4f) - 2e-4f * xa[i][k] / 0.15f;
+            }
+        memcpy(xb, xa, sizeof xa);
+        memcpy(pb, pa, sizeof pa);
+        sim_collider_resolve(a, xa, pa, 0, N);
+        assert_int_equal(sim_collider_set_body(b, xyz, nv, tris, nt), 0);
+        sim_collider_resolve(b, xb, pb, 0, N);
+        assert_memory_equal(xa, xb, sizeof xa);
+        assert_memory_equal(pa, pb, sizeof pa);
+        for (int i = 0; i < N; i++)
+            quiet += a->quiet[i][3] > 0.0f;
+    }
+    assert_true(quiet > N * 60 / 4); /* the skip was taken, often */
+    free(xyz);
+    free(tris);
+    sim_collider_destroy(a);
+    sim_collider_destroy(b);
+}
+
 /* On a convex body the walk from the cached triangle ends at the searched nearest triangle. */
 static void test_collide_track_contacts_matches_search_on_smooth_body(void **state)
 {
@@ -425,6 +489,7 @@ int main(void)
         cmocka_unit_test(test_collide_friction_bounded_by_push),
         cmocka_unit_test(test_collide_penetration_matches_analytic_sphere),
         cmocka_unit_test(test_collide_resolve_clears_sphere_shell),
+        cmocka_unit_test(test_collide_quiet_response_equals_full_response),
         cmocka_unit_test(test_collide_track_contacts_matches_search_on_smooth_body),
         cmocka_unit_test(test_collide_penetration_fast_equals_exact),
         cmocka_unit_test(test_collide_deep_points_are_pushed_out),
