@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -44,6 +45,79 @@ static void test_sim_project_spring_by_hand(void **state)
 }
 
 /* seed: f = k dl; acc dt^2 = f w dt^2 on each end, opposite signs. */
+/* xorshift32 (fixed seed) in [lo, hi). */
+static float wide_rand(uint32_t *r, float lo, float hi)
+{
+    *r ^= *r << 13;
+    *r ^= *r >> 17;
+    *r ^= *r << 5;
+    return lo + (hi - lo) * (float)(*r >> 8) / 16777216.0f;
+}
+
+/* The spring passes run 4 or 8 springs (vertices) at a time where the CPU allows: one call over a
+ * colour must equal, bit for bit, the same springs one call each (the scalar loop). A colour of 203
+ * springs on 512 vertices (a random matching: no shared vertex), some ends pinned (w = 0), some
+ * springs of zero length, most stretched past the limit, all kinds. */
+static void test_sim_spring_passes_wide_equal_scalar(void **state)
+{
+    (void)state;
+    enum { NV = 512, NS = 203 };
+    static float x0[NV][4], xw[NV][4], xs[NV][4];
+    static int32_t ends[NS][2], perm[NV], anchor[NV];
+    static float rest[NS], tlen[NV];
+    static uint8_t kind[NS];
+    uint32_t r = 99u;
+    for (int i = 0; i < NV; i++) {
+        for (int k = 0; k < 3; k++)
+            x0[i][k] = wide_rand(&r, -1.0f, 1.0f);
+        x0[i][3] = wide_rand(&r, 0.0f, 1.0f) < 0.1f ? 0.0f : wide_rand(&r, 10.0f, 100.0f);
+        perm[i] = i;
+    }
+    for (int i = NV - 1; i > 0; i--) {
+        int j = (int)wide_rand(&r, 0.0f, (float)(i + 1)) % (i + 1), t = perm[i];
+        perm[i] = perm[j], perm[j] = t;
+    }
+    for (int s = 0; s < NS; s++) {
+        ends[s][0] = perm[2 * s];
+        ends[s][1] = perm[2 * s + 1];
+        if (s % 17 == 5) /* zero length */
+            for (int k = 0; k < 3; k++)
+                x0[ends[s][1]][k] = x0[ends[s][0]][k];
+        float d[3] = {x0[ends[s][1]][0] - x0[ends[s][0]][0], x0[ends[s][1]][1] - x0[ends[s][0]][1],
+                      x0[ends[s][1]][2] - x0[ends[s][0]][2]};
+        rest[s] = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * wide_rand(&r, 0.8f, 1.05f);
+        kind[s] = (uint8_t)(s % 7 == 3 ? SIM_SPRING_BEND : SIM_SPRING_STRETCH);
+    }
+    for (int i = 0; i < NV; i++) {
+        anchor[i] = i % 5 == 0 ? -1 : perm[(i * 7) % NV];
+        tlen[i] = wide_rand(&r, 0.5f, 2.0f);
+    }
+    const float alpha[SIM_SPRING_KINDS] = {1e-3f, 2e-3f, 5e-2f};
+    for (int pass = 0; pass < 3; pass++) {
+        memcpy(xw, x0, sizeof x0);
+        memcpy(xs, x0, sizeof x0);
+        if (pass == 0) {
+            sim_project_springs(xw, (const int32_t(*)[2])ends, rest, kind, alpha, 0, NS);
+            for (int s = 0; s < NS; s++)
+                sim_project_springs(xs, (const int32_t(*)[2])ends, rest, kind, alpha, s, s + 1);
+        } else if (pass == 1) {
+            sim_strain_limit(xw, (const int32_t(*)[2])ends, rest, kind, 0, NS, 0.01f);
+            for (int s = 0; s < NS; s++)
+                sim_strain_limit(xs, (const int32_t(*)[2])ends, rest, kind, s, s + 1, 0.01f);
+        } else {
+            /* tethers move free vertices towards anchors that do not move: anchors pinned */
+            for (int i = 0; i < NV; i++)
+                if (anchor[i] >= 0)
+                    xw[anchor[i]][3] = xs[anchor[i]][3] = 0.0f;
+            sim_tethers(xw, anchor, tlen, 0, NV, 0.01f);
+            for (int i = 0; i < NV; i++)
+                sim_tethers(xs, anchor, tlen, i, i + 1, 0.01f);
+        }
+        assert_memory_equal(xw, xs, sizeof xw);
+        assert_memory_not_equal(xw, x0, sizeof xw); /* something moved */
+    }
+}
+
 static void test_sim_spring_force_by_hand(void **state)
 {
     (void)state;
@@ -90,6 +164,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_verlet_free_fall_matches_closed_form),
         cmocka_unit_test(test_sim_project_spring_by_hand),
+        cmocka_unit_test(test_sim_spring_passes_wide_equal_scalar),
         cmocka_unit_test(test_sim_spring_force_by_hand),
         cmocka_unit_test(test_sim_frame_free_fall),
     };
