@@ -12,7 +12,7 @@
 
 #define BENCH_SETTLE_FRAMES  30  /* strain and error are judged after the first second */
 #define BENCH_REF_EVERY      10  /* the reference keeps every tenth frame */
-#define BENCH_REF_ITERATIONS 800 /* the reference (docs/sim.md: the convergence study) */
+#define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
