@@ -216,7 +216,7 @@ __kernel void sim_iterations_tryon(
     __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
     __global const int *hier_level_start, __global const int *hier_vertex,
     __global const int *hier_parent_start, __global const int *hier_parent,
-    __global const float *hier_rest)
+    __global const float *hier_rest, int post_rounds)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     for (int it = 0; it < iters; it++) {
@@ -254,7 +254,7 @@ __kernel void sim_iterations_tryon(
         barrier(CLK_GLOBAL_MEM_FENCE);
     }
     /* post-stabilisation (iterations_tryon): the hierarchy level by level, a strain-limit sweep,
-       tethers, velocities kept, then the contacts */
+       tethers, velocities kept, then the contacts; then post_rounds of sweep, tethers, contacts */
     for (int i = lid; i < nv; i += L)
         sim_post_begin_one(x, x_prev, i);
     barrier(CLK_GLOBAL_MEM_FENCE);
@@ -273,5 +273,21 @@ __kernel void sim_iterations_tryon(
         sim_tether_one(x, tether_anchor, tether_len, i, limit);
         sim_post_end_one(x, x_prev, i);
         sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
+    }
+    /* post_rounds more rounds of sweep, tethers and contacts (SIM_POST_ROUNDS) */
+    for (int r = 0; r < post_rounds; r++) {
+        for (int i = lid; i < nv; i += L)
+            sim_post_begin_one(x, x_prev, i);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+        for (int col = 0; col < num_stretch_colors; col++) {
+            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+                sim_strain_limit_one(x, ends, rest, kind, s, limit);
+            barrier(CLK_GLOBAL_MEM_FENCE);
+        }
+        for (int i = lid; i < nv; i += L) {
+            sim_tether_one(x, tether_anchor, tether_len, i, limit);
+            sim_post_end_one(x, x_prev, i);
+            sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
+        }
     }
 }

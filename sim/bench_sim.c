@@ -1,6 +1,7 @@
 /* tryon-bench-sim: a garment on a body (or the drape sheet on a sphere), timed per frame; a
  * human table per group of frames, then one JSON line. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,13 +10,13 @@
 #include "scene.h"
 #include "sim.h"
 
-#define BENCH_SETTLE_FRAMES 30 /* strain and error are judged after the first second */
-#define BENCH_REF_EVERY     10 /* the reference keeps every tenth frame */
-#define BENCH_REF_FACTOR    8  /* reference: 8x the iterations (8x smaller steps) */
+#define BENCH_SETTLE_FRAMES  30  /* strain and error are judged after the first second */
+#define BENCH_REF_EVERY      10  /* the reference keeps every tenth frame */
+#define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
-    int verts, iterations, frames, group, ref_iterations;
+    int verts, iterations, frames, group, ref_iterations, compare_ref;
     sim_desc desc;
     int no_ref;
 } bench_opts;
@@ -35,7 +36,10 @@ static void usage(void)
             "[--frames F]\n"
             "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
             "         [--stretch N/m] [--bend N/m] [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
-            "         [--ref-iterations N (default 8x --iterations)]\n");
+            "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
+            "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
+            "                 in all and per motion (each computed once into the cache)\n",
+            BENCH_REF_ITERATIONS);
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -69,6 +73,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->csv = v;
         else if (strcmp(a, "--ref-iterations") == 0)
             o->ref_iterations = atoi(v);
+        else if (strcmp(a, "--compare-ref") == 0)
+            o->compare_ref = atoi(v);
         else if (strcmp(a, "--cache-dir") == 0)
             o->cache_dir = v;
         else if (strcmp(a, "--stretch") == 0)
@@ -97,7 +103,7 @@ static int parse(int argc, char **argv, bench_opts *o)
         o->frames = body ? 450 : 90; /* body: 15 s covers every motion; drape: 3 s */
     o->desc.iterations = o->iterations;
     if (o->ref_iterations <= 0)
-        o->ref_iterations = o->iterations * BENCH_REF_FACTOR;
+        o->ref_iterations = BENCH_REF_ITERATIONS;
     return 0;
 }
 
@@ -188,43 +194,127 @@ static void run_free(bench_run *r)
     free(r->snap);
 }
 
-/* The converged reference: the tryon solver with 8x the iterations, cached on disk. */
-static float *reference(const bench_opts *o, int nv, int nsnap)
+/* FNV-1a of the garment the scene makes (its rest positions and triangles): a reference cached
+ * for another garment is not reused. */
+static uint32_t garment_hash(const bench_opts *o)
+{
+    sim_scene *sc = NULL;
+    sim_garment g = {0};
+    uint32_t h = 2166136261u;
+    if (make_scene(o, &sc, &g) == 0) {
+        const unsigned char *b = (const unsigned char *)g.xyz;
+        for (size_t i = 0; i < (size_t)g.num_vertices * 3 * sizeof *g.xyz; i++)
+            h = (h ^ b[i]) * 16777619u;
+        b = (const unsigned char *)g.triangles;
+        for (size_t i = 0; i < (size_t)g.num_triangles * 3 * sizeof *g.triangles; i++)
+            h = (h ^ b[i]) * 16777619u;
+    }
+    sim_scene_destroy(sc);
+    sim_garment_free(&g);
+    return h;
+}
+
+/* The reference: the tryon solver on C with `iters` iterations (smaller steps), its snapshots
+ * cached on disk. *nv: the vertex count, or 0 to take it from the cache file. compute = 0: from
+ * the cache only (NULL when it is not there). */
+static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
 {
     char path[512];
-    snprintf(path, sizeof path, "%s/sim-ref-%s-%s-%d-%d-%d-%g-%g.bin", o->cache_dir, o->scene,
-             o->motion, o->verts, o->ref_iterations, o->frames, o->desc.fabric.stretch_n_m,
-             o->desc.fabric.bend_n_m);
-    size_t n = (size_t)nsnap * nv * 3;
-    float *ref = malloc(n * sizeof *ref + 1);
-    if (!ref)
-        return NULL;
+    snprintf(path, sizeof path, "%s/sim-ref-%s-%s-%d-%d-%d-%g-%g-%08x.bin", o->cache_dir, o->scene,
+             o->motion, o->verts, iters, o->frames, o->desc.fabric.stretch_n_m,
+             o->desc.fabric.bend_n_m, (unsigned)garment_hash(o));
+    size_t per = (size_t)nsnap * 3 * sizeof(float);
     FILE *f = fopen(path, "rb");
-    if (f) {
-        size_t got = fread(ref, sizeof *ref, n, f);
-        fclose(f);
-        if (got == n)
-            return ref;
+    if (f && nsnap > 0 && fseek(f, 0, SEEK_END) == 0) {
+        long bytes = ftell(f);
+        if (bytes > 0 && (size_t)bytes % per == 0 &&
+            (*nv <= 0 || (size_t)bytes / per == (size_t)*nv)) {
+            float *ref = malloc((size_t)bytes);
+            rewind(f);
+            if (ref && fread(ref, 1, (size_t)bytes, f) == (size_t)bytes) {
+                fclose(f);
+                *nv = (int)((size_t)bytes / per);
+                return ref;
+            }
+            free(ref);
+        }
     }
-    fprintf(stderr, "tryon-bench-sim: computing the reference (%d iterations) into %s\n",
-            o->ref_iterations, path);
+    if (f)
+        fclose(f);
+    if (!compute)
+        return NULL;
+    fprintf(stderr, "tryon-bench-sim: computing the reference (%d iterations) into %s\n", iters,
+            path);
     sim_desc d = o->desc;
     d.backend = SIM_BACKEND_C;
     d.solver = SIM_SOLVER_TRYON;
-    d.iterations = o->ref_iterations;
-    bench_run rr;
-    if (run(o, &d, 0, &rr) < 0 || rr.nv != nv) {
-        free(ref);
+    d.iterations = iters;
+    bench_run rr = {0};
+    if (run(o, &d, 0, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
+        run_free(&rr);
         return NULL;
     }
-    memcpy(ref, rr.snap, n * sizeof *ref);
+    *nv = rr.nv;
+    float *ref = rr.snap;
+    rr.snap = NULL;
     run_free(&rr);
     f = fopen(path, "wb");
     if (f) {
-        fwrite(ref, sizeof *ref, n, f);
+        fwrite(ref, sizeof *ref, (size_t)nsnap * *nv * 3, f);
         fclose(f);
     }
     return ref;
+}
+
+/* The body scene's "all" plays the motions in turn, BENCH_SEGMENT frames (3 s) each. */
+#define BENCH_SEGMENT 90
+static const char *const segment_names[] = {"still", "arm_raise", "turn", "walk", "fast_swing"};
+
+/* RMS distance (mm) between the snapshot sets a and b, over the snapshots taken after frames in
+ * [f0, f1) and after the settling frames; -1 when none. */
+static double rms_mm(const float *a, const float *b, int nv, int nsnap, int f0, int f1)
+{
+    double e2 = 0.0;
+    long cnt = 0;
+    for (int k = 0; a && b && k < nsnap; k++) {
+        int f = (k + 1) * BENCH_REF_EVERY - 1;
+        if (f < BENCH_SETTLE_FRAMES || f < f0 || f >= f1)
+            continue;
+        for (int i = 0; i < nv * 3; i++) {
+            double d = a[(size_t)k * nv * 3 + i] - b[(size_t)k * nv * 3 + i];
+            e2 += d * d;
+        }
+        cnt += nv;
+    }
+    return cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
+}
+
+static int is_all_body(const bench_opts *o)
+{
+    return strcmp(o->scene, "body") == 0 && strcmp(o->motion, "all") == 0;
+}
+
+/* --compare-ref M: the distance between the references of --ref-iterations and of M. */
+static int compare_refs(const bench_opts *o)
+{
+    int nsnap = o->frames / BENCH_REF_EVERY, nv = 0;
+    float *a = reference(o, o->ref_iterations, nsnap, &nv, 1);
+    float *b = a ? reference(o, o->compare_ref, nsnap, &nv, 1) : NULL;
+    if (!b) {
+        free(a);
+        return 1;
+    }
+    printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"verts\":%d,\"ref_iterations\":%d,"
+           "\"compare_ref\":%d,\"rms_mm\":%.2f",
+           o->scene, o->motion, nv, o->ref_iterations, o->compare_ref,
+           rms_mm(a, b, nv, nsnap, 0, o->frames));
+    for (int m = 0; is_all_body(o) && m < 5; m++)
+        printf(",\"%s_mm\":%.2f", segment_names[m],
+               rms_mm(a, b, nv, nsnap, m * BENCH_SEGMENT, (m + 1) * BENCH_SEGMENT));
+    printf("}\n");
+    free(a);
+    free(b);
+    return 0;
 }
 
 static int cmp_float(const void *a, const void *b)
@@ -296,6 +386,8 @@ int main(int argc, char **argv)
     if (parse(argc, argv, &o) < 0)
         return 2;
     mkdir(o.cache_dir, 0755);
+    if (o.compare_ref > 0)
+        return compare_refs(&o);
     bench_run r;
     if (run(&o, &o.desc, 1, &r) < 0)
         return 1;
@@ -322,31 +414,42 @@ int main(int argc, char **argv)
         pen_mm = fmaxf(pen_mm, s->max_pen_mm);
         recovered += s->state == SIM_STATE_RECOVERED;
     }
-    double err2 = 0.0;
-    long cnt = 0;
-    float *ref = o.no_ref ? NULL : reference(&o, r.nv, r.nsnap);
-    for (int k = 0; ref && k < r.nsnap; k++) {
-        if ((k + 1) * BENCH_REF_EVERY <= settle)
-            continue;
-        for (int i = 0; i < r.nv * 3; i++) {
-            double d = r.snap[(size_t)k * r.nv * 3 + i] - ref[(size_t)k * r.nv * 3 + i];
-            err2 += d * d;
+    int nv_ref = r.nv;
+    float *ref = o.no_ref ? NULL : reference(&o, o.ref_iterations, r.nsnap, &nv_ref, 1);
+    double cloth_error_mm = ref ? rms_mm(r.snap, ref, r.nv, r.nsnap, 0, o.frames) : -1.0;
+    /* the reference's own uncertainty: its distance to the reference of half the iterations,
+     * when that one is in the cache (docs/sim.md: the reference does not converge everywhere) */
+    float *half = ref ? reference(&o, o.ref_iterations / 2, r.nsnap, &nv_ref, 0) : NULL;
+    double ref_unc_mm = half ? rms_mm(ref, half, r.nv, r.nsnap, 0, o.frames) : -1.0;
+    free(half);
+    if (is_all_body(&o) && o.frames >= 5 * BENCH_SEGMENT) {
+        /* per motion: strain after the settling frames, error against the reference */
+        printf("%-10s %9s %8s %9s\n", "motion", "strain%", "p99%", "error_mm");
+        for (int m = 0; m < 5; m++) {
+            float mx = 0, p = 0;
+            for (int f = m * BENCH_SEGMENT; f < (m + 1) * BENCH_SEGMENT; f++)
+                if (f >= settle) {
+                    mx = fmaxf(mx, r.st[f].max_strain);
+                    p = fmaxf(p, r.st[f].p99_strain);
+                }
+            printf(
+                "%-10s %9.2f %8.2f %9.2f\n", segment_names[m], mx * 100.0f, p * 100.0f,
+                ref ? rms_mm(r.snap, ref, r.nv, r.nsnap, m * BENCH_SEGMENT, (m + 1) * BENCH_SEGMENT)
+                    : -1.0);
         }
-        cnt += r.nv;
     }
     free(ref);
-    double cloth_error_mm = cnt ? sqrt(err2 / (double)cnt) * 1000.0 : -1.0;
     printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"solver\":\"%s\",\"backend\":\"%s\","
            "\"device\":\"%s\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,"
            "\"ms_median\":%.3f,\"ms_p95\":%.3f,\"max_strain\":%.5f,\"p99_strain\":%.5f,"
            "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
-           "\"ref_iterations\":%d,\"ms_median_no_metrics\":%.3f}\n",
+           "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
-           r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ms_nm);
+           r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm);
     run_free(&r);
     return 0;
 }

@@ -282,6 +282,8 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 40, c->hier_parent_start);
     st |= ARG(it, 41, c->hier_parent);
     st |= ARG(it, 42, c->hier_rest);
+    int rounds = SIM_POST_ROUNDS;
+    st |= ARG(it, 43, rounds);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

@@ -111,6 +111,7 @@ struct sim {
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
 #define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
+#define SIM_POST_ROUNDS         4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
  * [begin, end) are vertices or springs; callers split them over threads. */
