@@ -18,17 +18,17 @@ run --scene body --verts 7000 --iterations 25 --solver tryon --backend opencl \
 run --scene body --verts 7000 --frames 60 --iterations 25 --solver seed --backend c \
     >> "$OUT/body.jsonl"
 
-# 2. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (480)
+# 2. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (200)
 : > "$OUT/iters.jsonl"
 # (the seed only at 25: it searches contacts every step and retries diverged frames with 2x
 # and 4x the iterations, minutes per run here)
 for it in 5 10 15 25 40 60; do
-  run --scene body --verts 7000 --frames 150 --iterations $it --ref-iterations 480 \
+  run --scene body --verts 7000 --frames 150 --iterations $it \
       --solver tryon --backend c >> "$OUT/iters.jsonl"
-  run --scene body --verts 7000 --frames 150 --iterations $it --ref-iterations 480 \
+  run --scene body --verts 7000 --frames 150 --iterations $it \
       --solver tryon --backend opencl >> "$OUT/iters.jsonl" || true
 done
-run --scene body --verts 7000 --frames 60 --iterations 25 --ref-iterations 480 \
+run --scene body --verts 7000 --frames 60 --iterations 25 \
     --solver seed --backend c >> "$OUT/iters.jsonl"
 
 # 3. vertices 2K..30K, drape scene (3 s), 25 iterations
@@ -108,7 +108,7 @@ set grid
 set output "$FIG/sim_iterations.png"
 set multiplot layout 1,2 title "body scene, 7,000 vertices: iterations 5..60 (labels)"
 set xlabel "ms per frame (median, all work)"
-set ylabel "cloth error, mm (RMS to 480-iteration reference)"
+set ylabel "cloth error, mm (RMS to the 200-iteration reference)"
 plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:6 w lp t g, \
      "$OUT/iters-tryon-c.dat" u 2:6:1 w labels offset 1,0.5 notitle
 set ylabel "max stretch strain after 1 s"
