@@ -107,13 +107,15 @@ set key outside
 set grid
 set output "$FIG/sim_iterations.png"
 set multiplot layout 1,2 title "body scene, 7,000 vertices: iterations 5..60 (labels)"
-set xlabel "ms per frame (median, all work)"
+set logscale x
+set xlabel "ms per frame (median, all work; log)"
 set ylabel "cloth error, mm (RMS to the 200-iteration reference)"
 plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:6 w lp t g, \
      "$OUT/iters-tryon-c.dat" u 2:6:1 w labels offset 1,0.5 notitle
 set ylabel "max stretch strain after 1 s"
 plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:4 w lp t g
 unset multiplot
+unset logscale x
 set output "$FIG/sim_vertices.png"
 set multiplot layout 1,2 title "drape scene, 25 iterations: 2K..30K vertices"
 set logscale xy
