@@ -220,6 +220,45 @@ static heap_item heap_pop(heap_item *h, int *n)
     return top;
 }
 
+/* The stretch springs at each vertex, in spring order: spring[start[v] .. start[v + 1]) (a
+ * counting sort of the spring ends). 0, or -SIM_ERR_NO_MEMORY with both NULL. */
+static int stretch_springs_by_vertex(const sim_cloth *c, int32_t **start_out, int32_t **spring_out)
+{
+    int nv = c->nv, ns = c->ns;
+    int32_t *start = calloc((size_t)nv + 1, sizeof *start);
+    int32_t *spring = malloc((size_t)(2 * ns + 1) * sizeof *spring);
+    int32_t *cursor = malloc((size_t)nv * sizeof *cursor + 1);
+    *start_out = *spring_out = NULL;
+    if (!start || !spring || !cursor) {
+        free(start);
+        free(spring);
+        free(cursor);
+        return -SIM_ERR_NO_MEMORY;
+    }
+    for (int k = 0; k < ns; k++)
+        if (c->kind[k] == SIM_SPRING_STRETCH) {
+            start[c->ends[k][0] + 1]++;
+            start[c->ends[k][1] + 1]++;
+        }
+    for (int i = 0; i < nv; i++)
+        start[i + 1] += start[i];
+    memcpy(cursor, start, (size_t)nv * sizeof *cursor);
+    for (int k = 0; k < ns; k++)
+        if (c->kind[k] == SIM_SPRING_STRETCH) {
+            spring[cursor[c->ends[k][0]]++] = k;
+            spring[cursor[c->ends[k][1]]++] = k;
+        }
+    free(cursor);
+    *start_out = start;
+    *spring_out = spring;
+    return 0;
+}
+
+static int other_end(const sim_cloth *c, int spring, int v)
+{
+    return c->ends[spring][0] == v ? c->ends[spring][1] : c->ends[spring][0];
+}
+
 /* Tethers: rest geodesic distance (over stretch springs) from every vertex to its nearest
  * attached vertex, multi-source Dijkstra. Vertices no attachment reaches get anchor -1. */
 static int build_tethers(sim_cloth *c)
@@ -227,38 +266,13 @@ static int build_tethers(sim_cloth *c)
     int nv = c->nv, ns = c->ns;
     c->tether_anchor = malloc((size_t)nv * sizeof *c->tether_anchor);
     c->tether_len = malloc((size_t)nv * sizeof *c->tether_len);
-    int32_t *start = calloc((size_t)nv + 1, sizeof *start);
-    int32_t *adj = malloc((size_t)(2 * ns + 1) * sizeof *adj);
-    float *adj_len = malloc((size_t)(2 * ns + 1) * sizeof *adj_len);
+    int32_t *start = NULL, *adj = NULL;
     heap_item *heap = malloc((size_t)(2 * ns + nv + 1) * sizeof *heap);
-    int r = 0;
-    if (!c->tether_anchor || !c->tether_len || !start || !adj || !adj_len || !heap) {
+    int r = stretch_springs_by_vertex(c, &start, &adj);
+    if (r == 0 && (!c->tether_anchor || !c->tether_len || !heap))
         r = -SIM_ERR_NO_MEMORY;
+    if (r < 0)
         goto done;
-    }
-    for (int s = 0; s < ns; s++)
-        if (c->kind[s] == SIM_SPRING_STRETCH) {
-            start[c->ends[s][0] + 1]++;
-            start[c->ends[s][1] + 1]++;
-        }
-    for (int i = 0; i < nv; i++)
-        start[i + 1] += start[i];
-    int32_t *cursor = malloc((size_t)nv * sizeof *cursor);
-    if (!cursor) {
-        r = -SIM_ERR_NO_MEMORY;
-        goto done;
-    }
-    memcpy(cursor, start, (size_t)nv * sizeof *cursor);
-    for (int s = 0; s < ns; s++) {
-        if (c->kind[s] != SIM_SPRING_STRETCH)
-            continue;
-        int a = c->ends[s][0], b = c->ends[s][1];
-        adj[cursor[a]] = b;
-        adj_len[cursor[a]++] = c->rest[s];
-        adj[cursor[b]] = a;
-        adj_len[cursor[b]++] = c->rest[s];
-    }
-    free(cursor);
     int n = 0;
     for (int i = 0; i < nv; i++) {
         c->tether_anchor[i] = -1;
@@ -275,8 +289,8 @@ static int build_tethers(sim_cloth *c)
         if (it.d > c->tether_len[it.v])
             continue;
         for (int k = start[it.v]; k < start[it.v + 1]; k++) {
-            float d = it.d + adj_len[k];
-            int u = adj[k];
+            float d = it.d + c->rest[adj[k]];
+            int u = other_end(c, adj[k], it.v);
             if (d < c->tether_len[u]) {
                 c->tether_len[u] = d;
                 c->tether_anchor[u] = c->tether_anchor[it.v];
@@ -300,7 +314,6 @@ static int build_tethers(sim_cloth *c)
 done:
     free(start);
     free(adj);
-    free(adj_len);
     free(heap);
     return r;
 }
@@ -310,35 +323,20 @@ done:
  * without attachments gets no levels. */
 static int build_hierarchy(sim_cloth *c)
 {
-    int nv = c->nv, ns = c->ns, r = 0;
+    int nv = c->nv, ns = c->ns;
     int32_t *level = malloc((size_t)nv * sizeof *level);
-    int32_t *start = calloc((size_t)nv + 1, sizeof *start);
-    int32_t *adj = malloc((size_t)(2 * ns + 1) * sizeof *adj);
-    int32_t *cursor = malloc((size_t)nv * sizeof *cursor);
+    int32_t *start = NULL, *adj = NULL;
     c->hier_vertex = malloc((size_t)(nv + 1) * sizeof *c->hier_vertex);
     c->hier_level_start = malloc((size_t)(nv + 2) * sizeof *c->hier_level_start);
     c->hier_parent_start = malloc((size_t)(nv + 1) * sizeof *c->hier_parent_start);
     c->hier_parent = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_parent);
     c->hier_rest = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_rest);
-    if (!level || !start || !adj || !cursor || !c->hier_vertex || !c->hier_level_start ||
-        !c->hier_parent_start || !c->hier_parent || !c->hier_rest) {
+    int r = stretch_springs_by_vertex(c, &start, &adj);
+    if (r == 0 && (!level || !c->hier_vertex || !c->hier_level_start || !c->hier_parent_start ||
+                   !c->hier_parent || !c->hier_rest))
         r = -SIM_ERR_NO_MEMORY;
+    if (r < 0)
         goto done;
-    }
-    for (int s = 0; s < ns; s++)
-        if (c->kind[s] == SIM_SPRING_STRETCH) {
-            start[c->ends[s][0] + 1]++;
-            start[c->ends[s][1] + 1]++;
-        }
-    for (int i = 0; i < nv; i++)
-        start[i + 1] += start[i];
-    memcpy(cursor, start, (size_t)nv * sizeof *cursor);
-    for (int s = 0; s < ns; s++) {
-        if (c->kind[s] != SIM_SPRING_STRETCH)
-            continue;
-        adj[cursor[c->ends[s][0]]++] = s;
-        adj[cursor[c->ends[s][1]]++] = s;
-    }
     for (int i = 0; i < nv; i++)
         level[i] = -1;
     /* breadth first: hier_vertex doubles as the queue; the attached vertices seed it and are
@@ -355,7 +353,7 @@ static int build_hierarchy(sim_cloth *c)
     while (head < tail) {
         int v = c->hier_vertex[head++];
         for (int k = start[v]; k < start[v + 1]; k++) {
-            int s = adj[k], u = c->ends[s][0] == v ? c->ends[s][1] : c->ends[s][0];
+            int s = adj[k], u = other_end(c, s, v);
             if (level[u] < 0) {
                 level[u] = level[v] + 1;
                 c->hier_vertex[tail++] = u;
@@ -372,7 +370,7 @@ static int build_hierarchy(sim_cloth *c)
             c->hier_level_start[++c->hier_levels - 1] = e;
         c->hier_parent_start[e] = np;
         for (int k = start[v]; k < start[v + 1]; k++) {
-            int s = adj[k], u = c->ends[s][0] == v ? c->ends[s][1] : c->ends[s][0];
+            int s = adj[k], u = other_end(c, s, v);
             if (level[u] == level[v] - 1) {
                 c->hier_parent[np] = u;
                 c->hier_rest[np++] = c->rest[s];
@@ -385,7 +383,6 @@ done:
     free(level);
     free(start);
     free(adj);
-    free(cursor);
     return r;
 }
 
