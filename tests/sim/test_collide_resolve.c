@@ -104,17 +104,13 @@ static void test_collide_penetration_matches_analytic_sphere(void **state)
     float deepest = 0.0f;
     for (int i = 0; i < N; i++) {
         /* Radii away from the surface by more than the tessellation error. */
-        float dir[3], len;
-        do {
-            for (int k = 0; k < 3; k++)
-                dir[k] = tc_range(&s, -1.0f, 1.0f);
-            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        } while (len < 0.1f || len > 1.0f);
+        float dir[3];
+        tc_direction(&s, dir);
         float rad = tc_range(&s, 0.05f, 0.35f);
         if (fabsf(rad - r) < 0.01f)
             rad = r + (rad < r ? -0.01f : 0.01f);
         for (int k = 0; k < 3; k++)
-            x[i][k] = dir[k] / len * rad;
+            x[i][k] = dir[k] * rad;
         x[i][3] = 1.0f;
         if (rad < r - 0.001f) {
             inside++;
@@ -155,15 +151,11 @@ static void test_collide_resolve_clears_sphere_shell(void **state)
     float x[N][4], xp[N][4];
     uint32_t s = 5u;
     for (int i = 0; i < N; i++) {
-        float dir[3], len;
-        do {
-            for (int k = 0; k < 3; k++)
-                dir[k] = tc_range(&s, -1.0f, 1.0f);
-            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        } while (len < 0.1f || len > 1.0f);
+        float dir[3];
+        tc_direction(&s, dir);
         float rad = tc_range(&s, 0.13f, 0.16f);
         for (int k = 0; k < 3; k++)
-            x[i][k] = dir[k] / len * rad;
+            x[i][k] = dir[k] * rad;
         x[i][3] = 1.0f;
         memcpy(xp[i], x[i], sizeof x[i]);
     }
@@ -202,15 +194,11 @@ static void test_collide_quiet_response_equals_full_response(void **state)
     assert_int_equal(sim_collider_set_body(b, xyz, nv, tris, nt), 0);
     static float xa[N][4], pa[N][4], xb[N][4], pb[N][4];
     for (int i = 0; i < N; i++) {
-        float dir[3], len;
-        do {
-            for (int k = 0; k < 3; k++)
-                dir[k] = tc_range(&s, -1.0f, 1.0f);
-            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        } while (len < 0.1f || len > 1.0f);
+        float dir[3];
+        tc_direction(&s, dir);
         float rad = tc_range(&s, 0.12f, 0.20f);
         for (int k = 0; k < 3; k++)
-            xa[i][k] = dir[k] / len * rad;
+            xa[i][k] = dir[k] * rad;
         xa[i][3] = 1.0f;
     }
     memcpy(pa, xa, sizeof xa);
@@ -257,15 +245,11 @@ static void test_collide_track_contacts_matches_search_on_smooth_body(void **sta
     static float x[N][4];
     uint32_t s = 8u;
     for (int i = 0; i < N; i++) {
-        float dir[3], len;
-        do {
-            for (int k = 0; k < 3; k++)
-                dir[k] = tc_range(&s, -1.0f, 1.0f);
-            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        } while (len < 0.1f || len > 1.0f);
+        float dir[3];
+        tc_direction(&s, dir);
         float rad = tc_range(&s, 0.15f, 0.17f);
         for (int k = 0; k < 3; k++)
-            x[i][k] = dir[k] / len * rad;
+            x[i][k] = dir[k] * rad;
         x[i][3] = 1.0f;
     }
     sim_collider_find_contacts(c, (const float(*)[4])x, 0, N);
@@ -414,14 +398,10 @@ static void test_collide_penetration_clearance_never_hides_a_point(void **state)
     static float x0[N][4], x[N][4];
     uint32_t s = 77u;
     for (int i = 0; i < N; i++) {
-        float dir[3], len;
-        do {
-            for (int k = 0; k < 3; k++)
-                dir[k] = tc_range(&s, -1.0f, 1.0f);
-            len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        } while (len < 0.1f || len > 1.0f);
+        float dir[3];
+        tc_direction(&s, dir);
         for (int k = 0; k < 3; k++)
-            x0[i][k] = dir[k] / len;
+            x0[i][k] = dir[k];
     }
     int cf, ce;
     float df, de;

@@ -20,6 +20,19 @@ static inline float tc_range(uint32_t *s, float lo, float hi)
     return lo + (hi - lo) * tc_rand(s);
 }
 
+/* A random unit direction (rejection from the cube, so uniform on the sphere). */
+static inline void tc_direction(uint32_t *s, float dir[3])
+{
+    float len;
+    do {
+        for (int k = 0; k < 3; k++)
+            dir[k] = tc_range(s, -1.0f, 1.0f);
+        len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    } while (len < 0.1f || len > 1.0f);
+    for (int k = 0; k < 3; k++)
+        dir[k] /= len;
+}
+
 /* A closed UV sphere of radius r at the origin: slices x stacks, outward winding.
    Vertices: 2 + slices * (stacks - 1); triangles: 2 * slices * (stacks - 1). Caller frees. */
 static inline void tc_sphere(float r, int slices, int stacks, float **xyz, int *nv, int32_t **tris,
