@@ -254,31 +254,18 @@ __kernel void sim_iterations_tryon(
         barrier(CLK_GLOBAL_MEM_FENCE);
     }
     /* post-stabilisation (iterations_tryon): the hierarchy level by level, a strain-limit sweep,
-       tethers, velocities kept, then the contacts; then post_rounds of sweep, tethers, contacts */
-    for (int i = lid; i < nv; i += L)
-        sim_post_begin_one(x, x_prev, i);
-    barrier(CLK_GLOBAL_MEM_FENCE);
-    for (int l = 0; l < hier_levels; l++) {
-        for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
-            sim_strain_hierarchy_one(x, hier_vertex, hier_parent_start, hier_parent, hier_rest, e,
-                                     limit);
-        barrier(CLK_GLOBAL_MEM_FENCE);
-    }
-    for (int col = 0; col < num_stretch_colors; col++) {
-        for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
-            sim_strain_limit_one(x, ends, rest, kind, s, limit);
-        barrier(CLK_GLOBAL_MEM_FENCE);
-    }
-    for (int i = lid; i < nv; i += L) {
-        sim_tether_one(x, tether_anchor, tether_len, i, limit);
-        sim_post_end_one(x, x_prev, i);
-        sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
-    }
-    /* post_rounds more rounds of sweep, tethers and contacts (SIM_POST_ROUNDS) */
-    for (int r = 0; r < post_rounds; r++) {
+       tethers, velocities kept, then the contacts; then post_rounds (SIM_POST_ROUNDS) more rounds
+       of sweep, tethers and contacts, the hierarchy only in the first (r = -1) */
+    for (int r = -1; r < post_rounds; r++) {
         for (int i = lid; i < nv; i += L)
             sim_post_begin_one(x, x_prev, i);
         barrier(CLK_GLOBAL_MEM_FENCE);
+        for (int l = 0; r < 0 && l < hier_levels; l++) {
+            for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
+                sim_strain_hierarchy_one(x, hier_vertex, hier_parent_start, hier_parent, hier_rest,
+                                         e, limit);
+            barrier(CLK_GLOBAL_MEM_FENCE);
+        }
         for (int col = 0; col < num_stretch_colors; col++) {
             for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
                 sim_strain_limit_one(x, ends, rest, kind, s, limit);
