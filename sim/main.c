@@ -151,6 +151,12 @@ static void on_body(const char *channel, const void *m, void *user)
     }
     pending_body *p = &a->next;
     int nv = b->num_vertex_coords / 3;
+    if (nv == 0) { /* no person (bodyfit lost them): the last cloth stands */
+        if (a->skipped++ < 5)
+            fprintf(stderr, "tryon-sim: body %d has no vertices (state %d); frame skipped\n",
+                    b->seq, b->state);
+        return;
+    }
     if (nv > p->cap) {
         float *x = realloc(p->xyz, (size_t)nv * 3 * sizeof *x);
         if (!x) {

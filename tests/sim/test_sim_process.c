@@ -125,8 +125,8 @@ static int session_stop(session *s, char **log)
     return status;
 }
 
-/* --queue all: every body is simulated, a malformed one (dropped by the bus) and one the sim
- * refuses (skipped) are reported, and the process serves on. */
+/* --queue all: every body is simulated, a malformed one (dropped by the bus), one the sim refuses
+ * and an empty one (both skipped) are reported, and the process serves on. */
 static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **state)
 {
     (void)state;
@@ -139,6 +139,10 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     lcm_publish(s.lcm, s.ch_body, junk, sizeof junk);
     /* a body the sim refuses: a triangle repeats a vertex */
     send_body(s.lcm, s.ch_body, s.sc, s.seq++, 1);
+    /* no person: a valid body with no vertices (bodyfit's LOST state) */
+    tryon_body_t empty = {.utime_capture = bus_now_wall_us(), .seq = s.seq++, .topology_id = 1};
+    bus_reject why;
+    assert_int_equal(bus_publish(s.lcm, s.ch_body, BUS_BODY, &empty, &why), BUS_OK);
     for (int k = 0; k < 20 && s.n.cloth < before + 3; k++) {
         send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
         lcm_handle_timeout(s.lcm, 100);
@@ -153,6 +157,7 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     assert_true(s.n.cloth_with_tris >= 1);
     assert_non_null(log);
     assert_non_null(strstr(log, "SIM_ERR_DEGENERATE"));
+    assert_non_null(strstr(log, "has no vertices"));
     assert_non_null(strstr(log, "1 BODY messages dropped"));
     free(log);
 }
