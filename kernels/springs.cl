@@ -198,6 +198,20 @@ __kernel void sim_tethers(__global float4 *x, __global const int *anchor, __glob
         sim_tether_one(x, anchor, len, i, limit);
 }
 
+/* One Gauss-Seidel sweep of the strain limit over the stretch colours, a barrier after each
+   (strain_limit_sweep in sim/solver_c.c); every work-item of the group calls it. */
+void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global const float *rest,
+                      __global const uchar *kind, __global const int *color_start,
+                      int num_stretch_colors, float limit)
+{
+    int lid = get_local_id(0), L = get_local_size(0);
+    for (int col = 0; col < num_stretch_colors; col++) {
+        for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+            sim_strain_limit_one(x, ends, rest, kind, s, limit);
+        barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+}
+
 /* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
    work-group: contacts refreshed every contact_every steps (0 = never; a full search, or the
    surface walk of sim_collider_track_contacts when contact_walk is set: whichever the C solver
@@ -241,11 +255,7 @@ __kernel void sim_iterations_tryon(
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
         /* the strain limit after shear and bend, which may stretch what it fixed */
-        for (int col = 0; col < num_stretch_colors; col++) {
-            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
-                sim_strain_limit_one(x, ends, rest, kind, s, limit);
-            barrier(CLK_GLOBAL_MEM_FENCE);
-        }
+        sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
         /* per vertex: tethers (anchors are attached and do not move), then the contact */
         for (int i = lid; i < nv; i += L) {
             sim_tether_one(x, tether_anchor, tether_len, i, limit);
@@ -266,11 +276,7 @@ __kernel void sim_iterations_tryon(
                                          e, limit);
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
-        for (int col = 0; col < num_stretch_colors; col++) {
-            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
-                sim_strain_limit_one(x, ends, rest, kind, s, limit);
-            barrier(CLK_GLOBAL_MEM_FENCE);
-        }
+        sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
         for (int i = lid; i < nv; i += L) {
             sim_tether_one(x, tether_anchor, tether_len, i, limit);
             sim_post_end_one(x, x_prev, i);

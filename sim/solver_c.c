@@ -176,22 +176,18 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
          * moves a correction about one spring, so a long region stretched a little stays
          * stretched. The hierarchy from the attachments outward removes it in one pass, a sweep
          * settles the springs within a level, the tethers hold; positions only, the velocities
-         * x - x_prev are kept (x_prev moves with x), then the contacts as in every step. */
-        sim_post_begin(c->x, c->x_prev, vb, ve);
-#pragma omp barrier
-#pragma omp single
-        sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
-                             c->hier_rest, 0, c->hier_level_start[c->hier_levels], limit);
-        strain_limit_sweep(c, limit, &bar);
-        sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
-        sim_post_end(c->x, c->x_prev, vb, ve);
-        sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
-        /* The last contact push undoes strain where the body moved into the cloth in the last
-         * step (about the relative speed times the step: 20 % at 25 steps in the walk, docs/
-         * sim.md); a few more rounds of sweep, tethers and contacts, positions only. */
-        for (int r = 0; r < SIM_POST_ROUNDS; r++) {
+         * x - x_prev are kept (x_prev moves with x), then the contacts as in every step (r = -1).
+         * Then SIM_POST_ROUNDS more rounds of sweep, tethers and contacts (r >= 0): the last
+         * contact push undoes strain where the body moved into the cloth in the last step (about
+         * the relative speed times the step: 20 % at 25 steps in the walk, docs/sim.md). */
+        for (int r = -1; r < SIM_POST_ROUNDS; r++) {
             sim_post_begin(c->x, c->x_prev, vb, ve);
             sim_team_barrier_wait(&bar);
+            if (r < 0) {
+#pragma omp single
+                sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
+                                     c->hier_rest, 0, c->hier_level_start[c->hier_levels], limit);
+            }
             strain_limit_sweep(c, limit, &bar);
             sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
             sim_post_end(c->x, c->x_prev, vb, ve);
