@@ -16,7 +16,7 @@
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
-    int verts, iterations, frames, group, ref_iterations, compare_ref;
+    int verts, body_verts, iterations, frames, group, ref_iterations, compare_ref;
     sim_desc desc;
     int no_ref;
 } bench_opts;
@@ -34,6 +34,7 @@ static void usage(void)
     fprintf(stderr,
             "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
             "[--frames F]\n"
+            "         [--body-verts N (body model, 0 = its default)]\n"
             "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
             "         [--stretch N/m] [--bend N/m] [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
             "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
@@ -63,6 +64,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->scene = v;
         else if (strcmp(a, "--verts") == 0)
             o->verts = atoi(v);
+        else if (strcmp(a, "--body-verts") == 0)
+            o->body_verts = atoi(v);
         else if (strcmp(a, "--iterations") == 0)
             o->iterations = atoi(v);
         else if (strcmp(a, "--frames") == 0)
@@ -121,7 +124,7 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
         }
         return 0;
     }
-    *sc = sim_scene_body(o->motion, 0, err, sizeof err);
+    *sc = sim_scene_body(o->motion, o->body_verts, err, sizeof err);
     if (!*sc) {
         fprintf(stderr, "tryon-bench-sim: body scene: %s\n", err);
         return -1;
