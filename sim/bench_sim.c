@@ -103,7 +103,7 @@ static int parse(int argc, char **argv, bench_opts *o)
         return -1;
     }
     if (o->frames <= 0)
-        o->frames = body ? 450 : 90; /* body: 15 s covers every motion; drape: 3 s */
+        o->frames = body ? 495 : 90; /* body: 16.5 s, every motion of "all"; drape: 3 s */
     o->desc.iterations = o->iterations;
     if (o->ref_iterations <= 0)
         o->ref_iterations = BENCH_REF_ITERATIONS;
@@ -269,19 +269,27 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
     return ref;
 }
 
-/* The body scene's "all" plays the motions in turn, BENCH_SEGMENT frames (3 s) each. */
-#define BENCH_SEGMENT 90
-static const char *const segment_names[] = {"still", "arm_raise", "turn", "walk", "fast_swing"};
+static int is_all_body(const bench_opts *o)
+{
+    return strcmp(o->scene, "body") == 0 && strcmp(o->motion, "all") == 0;
+}
 
-/* RMS distance (mm) between the snapshot sets a and b, over the snapshots taken after frames in
- * [f0, f1) and after the settling frames; -1 when none. */
-static double rms_mm(const float *a, const float *b, int nv, int nsnap, int f0, int f1)
+/* Which motion of "all" frame f shows (the scene's segments), -1 for any other scene. */
+static int frame_segment(const bench_opts *o, int f)
+{
+    return is_all_body(o) ? sim_scene_all_segment((double)f * o->desc.frame_dt_s, NULL) : -1;
+}
+
+/* RMS distance (mm) between the snapshot sets a and b, over the snapshots taken after the
+ * settling frames in motion segment seg (-1: all); -1 when none. */
+static double rms_mm(const bench_opts *o, const float *a, const float *b, int nv, int nsnap,
+                     int seg)
 {
     double e2 = 0.0;
     long cnt = 0;
     for (int k = 0; a && b && k < nsnap; k++) {
         int f = (k + 1) * BENCH_REF_EVERY - 1;
-        if (f < BENCH_SETTLE_FRAMES || f < f0 || f >= f1)
+        if (f < BENCH_SETTLE_FRAMES || (seg >= 0 && frame_segment(o, f) != seg))
             continue;
         for (int i = 0; i < nv * 3; i++) {
             double d = a[(size_t)k * nv * 3 + i] - b[(size_t)k * nv * 3 + i];
@@ -290,11 +298,6 @@ static double rms_mm(const float *a, const float *b, int nv, int nsnap, int f0, 
         cnt += nv;
     }
     return cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
-}
-
-static int is_all_body(const bench_opts *o)
-{
-    return strcmp(o->scene, "body") == 0 && strcmp(o->motion, "all") == 0;
 }
 
 /* --compare-ref M: the distance between the references of --ref-iterations and of M. */
@@ -310,10 +313,9 @@ static int compare_refs(const bench_opts *o)
     printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"verts\":%d,\"ref_iterations\":%d,"
            "\"compare_ref\":%d,\"rms_mm\":%.2f",
            o->scene, o->motion, nv, o->ref_iterations, o->compare_ref,
-           rms_mm(a, b, nv, nsnap, 0, o->frames));
-    for (int m = 0; is_all_body(o) && m < 5; m++)
-        printf(",\"%s_mm\":%.2f", segment_names[m],
-               rms_mm(a, b, nv, nsnap, m * BENCH_SEGMENT, (m + 1) * BENCH_SEGMENT));
+           rms_mm(o, a, b, nv, nsnap, -1));
+    for (int m = 0; is_all_body(o) && m < sim_scene_segment_count(); m++)
+        printf(",\"%s_mm\":%.2f", sim_scene_segment_name(m), rms_mm(o, a, b, nv, nsnap, m));
     printf("}\n");
     free(a);
     free(b);
@@ -419,26 +421,24 @@ int main(int argc, char **argv)
     }
     int nv_ref = r.nv;
     float *ref = o.no_ref ? NULL : reference(&o, o.ref_iterations, r.nsnap, &nv_ref, 1);
-    double cloth_error_mm = ref ? rms_mm(r.snap, ref, r.nv, r.nsnap, 0, o.frames) : -1.0;
+    double cloth_error_mm = ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, -1) : -1.0;
     /* the reference's own uncertainty: its distance to the reference of half the iterations,
      * when that one is in the cache (docs/sim.md: the reference does not converge everywhere) */
     float *half = ref ? reference(&o, o.ref_iterations / 2, r.nsnap, &nv_ref, 0) : NULL;
-    double ref_unc_mm = half ? rms_mm(ref, half, r.nv, r.nsnap, 0, o.frames) : -1.0;
+    double ref_unc_mm = half ? rms_mm(&o, ref, half, r.nv, r.nsnap, -1) : -1.0;
     free(half);
-    if (is_all_body(&o) && o.frames >= 5 * BENCH_SEGMENT) {
+    if (is_all_body(&o)) {
         /* per motion: strain after the settling frames, error against the reference */
         printf("%-10s %9s %8s %9s\n", "motion", "strain%", "p99%", "error_mm");
-        for (int m = 0; m < 5; m++) {
+        for (int m = 0; m < sim_scene_segment_count(); m++) {
             float mx = 0, p = 0;
-            for (int f = m * BENCH_SEGMENT; f < (m + 1) * BENCH_SEGMENT; f++)
-                if (f >= settle) {
+            for (int f = settle; f < o.frames; f++)
+                if (frame_segment(&o, f) == m) {
                     mx = fmaxf(mx, r.st[f].max_strain);
                     p = fmaxf(p, r.st[f].p99_strain);
                 }
-            printf(
-                "%-10s %9.2f %8.2f %9.2f\n", segment_names[m], mx * 100.0f, p * 100.0f,
-                ref ? rms_mm(r.snap, ref, r.nv, r.nsnap, m * BENCH_SEGMENT, (m + 1) * BENCH_SEGMENT)
-                    : -1.0);
+            printf("%-10s %9.2f %8.2f %9.2f\n", sim_scene_segment_name(m), mx * 100.0f, p * 100.0f,
+                   ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0);
         }
     }
     free(ref);

@@ -9,8 +9,8 @@
 #include "bodyfit.h"
 #endif
 
-#define SCENE_PI        3.14159265358979f
-#define SCENE_SEGMENT_S 3.0 /* "all": each motion plays at most this long */
+#define SCENE_PI      3.14159265358979f
+#define SCENE_BLEND_S 0.5 /* "all": each segment crossfades from the last over this long */
 
 struct sim_scene {
     int nv, nt;
@@ -104,14 +104,78 @@ sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangl
     return sc;
 }
 
-static const char *const motion_names[] = {"still", "arm_raise", "turn", "walk", "fast_swing"};
-#define SCENE_MOTIONS 5
+/* "all": each motion plays a whole number of its cycles or half-cycles, so that it ends in the
+ * pose it started from: arm raise up and down (4 s), turn left and back (3 s), three steps of the
+ * walk (3.3 s), four swings (3.2 s). */
+static const struct {
+    const char *name;
+    double seconds;
+} segments[] = {
+    {"still", 3.0}, {"arm_raise", 4.0}, {"turn", 3.0}, {"walk", 3.3}, {"fast_swing", 3.2}};
+#define SCENE_MOTIONS ((int)(sizeof segments / sizeof segments[0]))
+
+static double all_duration(void)
+{
+    double total = 0.0;
+    for (int i = 0; i < SCENE_MOTIONS; i++)
+        total += segments[i].seconds;
+    return total;
+}
+
+int sim_scene_segment(const sim_scene *sc, double t_s, double *local_s)
+{
+    if (sc->kind == 0 || sc->motion >= 0) {
+        if (local_s)
+            *local_s = t_s;
+        return -1;
+    }
+    return sim_scene_all_segment(t_s, local_s);
+}
+
+int sim_scene_all_segment(double t_s, double *local_s)
+{
+    double t = fmod(t_s, all_duration());
+    int k = 0;
+    while (k + 1 < SCENE_MOTIONS && t >= segments[k].seconds)
+        t -= segments[k++].seconds;
+    if (local_s)
+        *local_s = t;
+    return k;
+}
+
+int sim_scene_segment_count(void)
+{
+    return SCENE_MOTIONS;
+}
+
+const char *sim_scene_segment_name(int k)
+{
+    return k >= 0 && k < SCENE_MOTIONS ? segments[k].name : "none";
+}
 
 #ifdef SIM_HAVE_BODYFIT
-static double segment_length(int m)
+/* The pose of "all" at t_s: the motions one after the other, each crossfading from the one
+ * before over its first SCENE_BLEND_S (the previous motion plays on while its weight falls, a
+ * smoothstep), so the body never jumps between segments: a person does not go from an arm
+ * raised to 100 degrees to the A-pose in one frame, and the jump would measure the scene's cut,
+ * not the cloth. The very first segment starts from its own pose. */
+static void all_motions_pose(const sim_scene *sc, double t_s, fit_pose *pose)
 {
-    double d = fit_motion_duration((fit_motion)m);
-    return d < SCENE_SEGMENT_S ? d : SCENE_SEGMENT_S;
+    double t;
+    int k = sim_scene_segment(sc, t_s, &t);
+    fit_motion_eval((fit_motion)fit_motion_from_name(segments[k].name), t, pose);
+    if (t >= SCENE_BLEND_S || (k == 0 && t_s < all_duration()))
+        return;
+    int prev = (k + SCENE_MOTIONS - 1) % SCENE_MOTIONS;
+    fit_pose from;
+    fit_motion_eval((fit_motion)fit_motion_from_name(segments[prev].name),
+                    segments[prev].seconds + t, &from);
+    double u = t / SCENE_BLEND_S, w = u * u * (3.0 - 2.0 * u);
+    for (int k3 = 0; k3 < 3; k3++) {
+        pose->root[k3] = (float)((1.0 - w) * from.root[k3] + w * pose->root[k3]);
+        for (int j = 0; j < FIT_JOINT_COUNT; j++) /* rotation vectors */
+            pose->rot[j][k3] = (float)((1.0 - w) * from.rot[j][k3] + w * pose->rot[j][k3]);
+    }
 }
 
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
@@ -145,19 +209,11 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
                    int *nt, const float **joints)
 {
     if (sc->kind == 1) {
-        int m = sc->motion;
-        double t = t_s;
-        if (m < 0) {
-            double total = sim_scene_duration(sc);
-            t = fmod(t_s, total);
-            for (m = 0; m + 1 < SCENE_MOTIONS &&
-                        t >= segment_length(fit_motion_from_name(motion_names[m]));
-                 m++)
-                t -= segment_length(fit_motion_from_name(motion_names[m]));
-            m = fit_motion_from_name(motion_names[m]);
-        }
         fit_pose pose;
-        fit_motion_eval((fit_motion)m, t, &pose);
+        if (sc->motion >= 0)
+            fit_motion_eval((fit_motion)sc->motion, t_s, &pose);
+        else
+            all_motions_pose(sc, t_s, &pose);
         if (fit_model_pose(sc->model, &pose, sc->xyz, sc->joints) < 0)
             return -1;
     }
@@ -176,10 +232,7 @@ double sim_scene_duration(const sim_scene *sc)
         return 1e9;
     if (sc->motion >= 0)
         return fit_motion_duration((fit_motion)sc->motion);
-    double total = 0.0;
-    for (int i = 0; i < SCENE_MOTIONS; i++)
-        total += segment_length(fit_motion_from_name(motion_names[i]));
-    return total;
+    return all_duration();
 }
 #else
 /* Without bodyfit: a capsule figure (torso and two arms, as separate closed spheres stretched
@@ -195,7 +248,7 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     (void)target_vertices;
     int m = -1;
     for (int i = 0; i < SCENE_MOTIONS; i++)
-        if (strcmp(motion, motion_names[i]) == 0)
+        if (strcmp(motion, segments[i].name) == 0)
             m = i;
     if (m < 0 && strcmp(motion, "all") != 0) {
         snprintf(err, err_size, "motion '%s' unknown", motion);
@@ -231,7 +284,7 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
     if (sc->kind == 2) {
         /* arms swing about the shoulder (y = 1.5 m); fast_swing: amplitude 0.9 rad at 1.6 Hz
          * gives 0.55 m * 0.9 * 2 pi * 1.6 = 5 m/s peak at the hand */
-        int m = sc->motion < 0 ? (int)(t_s / SCENE_SEGMENT_S) % SCENE_MOTIONS : sc->motion;
+        int m = sc->motion < 0 ? sim_scene_segment(sc, t_s, NULL) : sc->motion;
         float amp = m == 4 ? 0.9f : (m == 0 ? 0.0f : 0.3f);
         float freq = m == 4 ? 1.6f : 0.5f;
         int pv = sc->nv / FIG_PARTS;
@@ -256,7 +309,7 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
 
 double sim_scene_duration(const sim_scene *sc)
 {
-    return sc->kind == 2 ? SCENE_SEGMENT_S * SCENE_MOTIONS : 1e9;
+    return sc->kind == 2 ? (sc->motion < 0 ? all_duration() : 1e9) : 1e9;
 }
 #endif
 

@@ -10,8 +10,9 @@ typedef struct sim_scene sim_scene;
 
 /* A UV sphere of about n_triangles (closed, counter-clockwise from outside). */
 sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangles);
-/* The body model playing motion ("all" = still, arm_raise, turn, walk, fast_swing in turn, each
- * at most 3 s). NULL with err filled when the motion is unknown. */
+/* The body model playing motion ("all" = still, arm_raise, turn, walk, fast_swing in turn, 3-4 s
+ * each, each ending in the pose it started from and crossfading from the one before over 0.5 s).
+ * NULL with err filled when the motion is unknown. */
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size);
 void sim_scene_destroy(sim_scene *sc);
 
@@ -20,6 +21,12 @@ void sim_scene_destroy(sim_scene *sc);
 int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
                    int *nt, const float **joints);
 double sim_scene_duration(const sim_scene *sc); /* seconds of motion before it loops */
+/* "all": which segment plays at t_s (0 .. sim_scene_segment_count() - 1) and, in local_s (may be
+ * NULL), the time into it; -1 (local_s = t_s) for any other scene. */
+int sim_scene_segment(const sim_scene *sc, double t_s, double *local_s);
+int sim_scene_all_segment(double t_s, double *local_s); /* the same for "all", without a scene */
+int sim_scene_segment_count(void);
+const char *sim_scene_segment_name(int k); /* "still", ...; "none" out of range */
 const char *sim_scene_describe(const sim_scene *sc);
 
 #endif
