@@ -13,6 +13,9 @@
 #define BENCH_SETTLE_FRAMES  30  /* strain and error are judged after the first second */
 #define BENCH_REF_EVERY      10  /* the reference keeps every tenth frame */
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
+/* In the reference cache's file names: raise it with every change to the solver's results or to
+ * the scenes' motions, so that no reference of another model is reused. */
+#define BENCH_REF_VERSION 2
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
@@ -223,9 +226,9 @@ static uint32_t garment_hash(const bench_opts *o)
 static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
 {
     char path[512];
-    snprintf(path, sizeof path, "%s/sim-ref-%s-%s-%d-%d-%d-%g-%g-%08x.bin", o->cache_dir, o->scene,
-             o->motion, o->verts, iters, o->frames, o->desc.fabric.stretch_n_m,
-             o->desc.fabric.bend_n_m, (unsigned)garment_hash(o));
+    snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x.bin", o->cache_dir,
+             BENCH_REF_VERSION, o->scene, o->motion, o->verts, iters, o->frames,
+             o->desc.fabric.stretch_n_m, o->desc.fabric.bend_n_m, (unsigned)garment_hash(o));
     size_t per = (size_t)nsnap * 3 * sizeof(float);
     FILE *f = fopen(path, "rb");
     if (f && nsnap > 0 && fseek(f, 0, SEEK_END) == 0) {

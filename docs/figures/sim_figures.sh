@@ -1,24 +1,31 @@
 #!/bin/sh
 # The sim figures in docs/sim.md: runs tryon-bench-sim, keeps each final JSON line in
 # $OUT/*.jsonl, and draws docs/figures/sim_*.png with gnuplot.
-# usage: docs/figures/sim_figures.sh BUILD_DIR   (e.g. build-sima)
+# usage: docs/figures/sim_figures.sh BUILD_DIR [SECTION...]   (e.g. build; sections: body iters
+#        verts stability, all by default; a section left out keeps its data from an earlier run)
 set -eu
 B=${1:-build-sima}
+[ $# -gt 0 ] && shift
+SECTIONS=${*:-body iters verts stability}
+want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/sim/tryon-bench-sim
 OUT=$B/sim-figures
 FIG=$(dirname "$0")
 mkdir -p "$OUT"
 run() { "$BENCH" --cache-dir "$OUT" "$@" | tail -n 1; }
 
-# 1. the headline: body scene, all motions (15 s), 7,000 vertices, 25 iterations
+# 1. the headline: body scene, all motions (16.5 s), 7,000 vertices, 25 iterations
+if want body; then
 : > "$OUT/body.jsonl"
 run --scene body --verts 7000 --iterations 25 --solver tryon --backend c >> "$OUT/body.jsonl"
 run --scene body --verts 7000 --iterations 25 --solver tryon --backend opencl \
     >> "$OUT/body.jsonl" || true
 run --scene body --verts 7000 --frames 60 --iterations 25 --solver seed --backend c \
     >> "$OUT/body.jsonl"
+fi
 
 # 2. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (200)
+if want iters; then
 : > "$OUT/iters.jsonl"
 # (the seed only at 25: it searches contacts every step and retries diverged frames with 2x
 # and 4x the iterations, minutes per run here)
@@ -30,8 +37,10 @@ for it in 5 10 15 25 40 60; do
 done
 run --scene body --verts 7000 --frames 60 --iterations 25 \
     --solver seed --backend c >> "$OUT/iters.jsonl"
+fi
 
 # 3. vertices 2K..30K, drape scene (3 s), 25 iterations
+if want verts; then
 : > "$OUT/verts.jsonl"
 for n in 2000 4000 7056 15000 30000; do
   run --scene drape --verts $n --iterations 25 --solver tryon --backend c >> "$OUT/verts.jsonl"
@@ -52,8 +61,10 @@ if [ -x "$B/sim/tryon-bench-bullet" ]; then
   "$B/sim/tryon-bench-bullet" --verts 7056 --iterations 25 --margin-mm 20 | tail -n 1 \
       >> "$OUT/bullet.jsonl"
 fi
+fi
 
 # 4. stability map: drape, 1,024 vertices, 1 s; step size (iterations) x stretch stiffness
+if want stability; then
 : > "$OUT/stability.jsonl"
 for s in tryon seed; do
   for it in 5 10 25 50; do
@@ -63,6 +74,7 @@ for s in tryon seed; do
     done
   done
 done
+fi
 
 # jsonl -> whitespace tables for gnuplot
 python3 - "$OUT" <<'PY'
