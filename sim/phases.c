@@ -48,7 +48,7 @@ void sim_phases_free(sim_phases *ph)
 int sim_phases_reset(sim_phases *ph, int threads, int phases)
 {
     atomic_store(&ph->wake, 0);
-    atomic_store(&ph->sleepers, 0);
+    atomic_store(&ph->need_wake, 0);
     atomic_store(&ph->sleeper_cpu, -1);
     if (threads <= 1) {
         ph->threads = 1; /* one thread takes every phase whole: no counters */
@@ -122,17 +122,20 @@ static long elapsed_us(const struct timespec *t0)
     return (long)(t1.tv_sec - t0->tv_sec) * 1000000L + (t1.tv_nsec - t0->tv_nsec) / 1000;
 }
 
+/* One system call per sleep: the first waker after a thread went to sleep clears need_wake. */
 static void wake_sleepers(sim_phases *ph)
 {
-    atomic_fetch_add(&ph->wake, 1);
-    syscall(SYS_futex, &ph->wake, FUTEX_WAKE_PRIVATE, INT_MAX, NULL, NULL, 0);
+    if (atomic_exchange(&ph->need_wake, 0)) {
+        atomic_fetch_add(&ph->wake, 1);
+        syscall(SYS_futex, &ph->wake, FUTEX_WAKE_PRIVATE, INT_MAX, NULL, NULL, 0);
+    }
 }
 
-/* Until phase p's n items are done. The sleeper registers before its last look at the counter,
-   and whoever wakes reads the sleepers after adding its items (all seq_cst): either the waker
-   sees this sleeper, or this look sees the items. A sleeper is woken at the phases marked wake
-   (a step's start, the frame's end) and when a thread on another CPU ends a phase: waking one
-   that slept on this thread's own CPU would only make the two take turns on it. */
+/* Until phase p's n items are done. The sleeper raises need_wake before its last look at the
+   counter, and whoever wakes reads need_wake after adding its items (all seq_cst): either the
+   waker sees it, or this look sees the items. A sleeper is woken at the phases marked wake (a
+   step's start, the frame's end) and when a thread on another CPU ends a phase: waking one that
+   slept on this thread's own CPU would only make the two take turns on it. */
 static void wait_done(sim_phases *ph, int p, int n)
 {
     atomic_int *done = &ph->done[p];
@@ -145,15 +148,14 @@ static void wait_done(sim_phases *ph, int p, int n)
     }
     struct timespec t0;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    atomic_fetch_add(&ph->sleepers, 1);
     atomic_store(&ph->sleeper_cpu, sched_getcpu());
     for (;;) {
+        atomic_store(&ph->need_wake, 1);
         int gen = atomic_load(&ph->wake);
         if (atomic_load(done) >= n)
             break;
         syscall(SYS_futex, &ph->wake, FUTEX_WAIT_PRIVATE, gen, NULL, NULL, 0);
     }
-    atomic_fetch_sub(&ph->sleepers, 1);
     if (elapsed_us(&t0) < SLEEP_SHORT_US)
         spin_budget = spin_budget < SPINS_MAX / 2 ? 2 * spin_budget : SPINS_MAX;
     else
@@ -168,11 +170,9 @@ void sim_phase_end(sim_phases *ph, sim_phase_cursor *c, int wake)
                             : atomic_load(&ph->done[c->phase]);
         if (sum < n)
             wait_done(ph, c->phase, n);
-        if ((items > 0 && sum == n) || wake) {
-            if (atomic_load(&ph->sleepers) > 0 &&
-                (wake || atomic_load(&ph->sleeper_cpu) != sched_getcpu()))
-                wake_sleepers(ph);
-        }
+        if (((items > 0 && sum == n) || wake) && atomic_load(&ph->need_wake) &&
+            (wake || atomic_load(&ph->sleeper_cpu) != sched_getcpu()))
+            wake_sleepers(ph);
     }
     c->phase++;
     c->n = 0;

@@ -23,7 +23,7 @@ typedef struct sim_phases {
     atomic_int *claimed;    /* [threads][stride]: chunks taken of part t of phase p */
     atomic_int *done;       /* [cap]: items done of phase p */
     atomic_int wake;        /* futex word: bumped to wake the sleepers */
-    atomic_int sleepers;    /* threads asleep on wake */
+    atomic_int need_wake;   /* a thread went to sleep since the last wake */
     atomic_int sleeper_cpu; /* the CPU the last thread to sleep slept on */
     void *mem;
 } sim_phases;
