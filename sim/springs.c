@@ -148,12 +148,18 @@ static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32
 static AVX int project8(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                         const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int s, int end)
 {
+    /* the kinds' alphas in each half (vpermilps selects within a half) */
+    const __m256 table = _mm256_setr_ps(alpha[0], alpha[1], alpha[2], alpha[2], alpha[0], alpha[1],
+                                        alpha[2], alpha[2]);
     for (; s + 8 <= end; s += 8) {
         spring8 q;
         spring8_load(&q, (const float(*)[4])x, ends, s);
-        __m256 al = _mm256_set_ps(alpha[kind[s + 7]], alpha[kind[s + 6]], alpha[kind[s + 5]],
-                                  alpha[kind[s + 4]], alpha[kind[s + 3]], alpha[kind[s + 2]],
-                                  alpha[kind[s + 1]], alpha[kind[s]]);
+        /* alpha[kind] lane by lane: a select from the table in a register (built lane by lane
+         * from memory it cost a store-forwarding stall per eight springs) */
+        __m128i k8 = _mm_loadl_epi64((const __m128i *)(const void *)(kind + s));
+        __m256i idx = _mm256_insertf128_si256(_mm256_castsi128_si256(_mm_cvtepu8_epi32(k8)),
+                                              _mm_cvtepu8_epi32(_mm_srli_si128(k8, 4)), 1);
+        __m256 al = _mm256_permutevar_ps(table, idx);
         __m256 w2 = q.w2;
         __m256 wsum = _mm256_add_ps(w2, al);
         __m256 len = spring8_len(&q);
