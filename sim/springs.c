@@ -495,9 +495,10 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
         __m128 l = _mm_sqrt_ps(_mm_add_ps(
             _mm_add_ps(_mm_mul_ps(d[0], d[0]), _mm_mul_ps(d[1], d[1])), _mm_mul_ps(d[2], d[2])));
         __m128 lmax = _mm_mul_ps(_mm_loadu_ps(len + i), scale);
-        mask &= _mm_movemask_ps(_mm_cmpnle_ps(l, lmax)); /* l <= lmax: in reach (a NaN goes on) */
-        if (!mask)
-            continue;
+        /* l <= lmax: in reach (a NaN goes on). Mid-step which of four neighbours are out of
+         * reach is a coin toss for the branch predictor: every tethered free vertex is stored,
+         * one in reach as it was (the anchors, attached, are read by other ranges: not stored) */
+        int move = mask & _mm_movemask_ps(_mm_cmpnle_ps(l, lmax));
         __m128 c = _mm_div_ps(_mm_sub_ps(l, lmax), l);
         __m128 t[4] = {_mm_mul_ps(d[0], c), _mm_mul_ps(d[1], c), _mm_mul_ps(d[2], c),
                        _mm_setzero_ps()};
@@ -506,7 +507,8 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
             if (!(mask >> k & 1))
                 continue;
             __m128 n = _mm_sub_ps(xi[k], t[k]);
-            _mm_storeu_ps(x[i + k], _mm_or_ps(_mm_and_ps(xyz, n), _mm_andnot_ps(xyz, xi[k])));
+            __m128 sel = _mm_and_ps(xyz, _mm_castsi128_ps(_mm_set1_epi32(-(move >> k & 1))));
+            _mm_storeu_ps(x[i + k], _mm_or_ps(_mm_and_ps(sel, n), _mm_andnot_ps(sel, xi[k])));
         }
     }
 #endif
