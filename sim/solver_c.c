@@ -10,12 +10,14 @@
 #endif
 
 #include "cloth.h"
-#include "team_barrier.h"
+#include "phases.h"
 
 typedef struct c_state {
     float (*acc)[4];      /* seed: spring forces times dt^2 / m, per vertex */
     float (*att_from)[4]; /* attached vertices at the start and end of the frame */
     float (*att_to)[4];
+    int32_t *att_order; /* attachments by vertex (place_attachments) */
+    sim_phases phases;  /* the tryon iterations' passes (phases.h) */
     char name[64];
 } c_state;
 
@@ -34,6 +36,8 @@ static void c_destroy(void *state)
     free(c->acc);
     free(c->att_from);
     free(c->att_to);
+    free(c->att_order);
+    sim_phases_free(&c->phases);
     free(c);
 }
 
@@ -45,11 +49,22 @@ static int c_create(struct sim *s, void **state, char *err, size_t err_size)
         c->acc = calloc((size_t)s->cloth.nv, sizeof *c->acc);
         c->att_from = calloc((size_t)na, sizeof *c->att_from);
         c->att_to = calloc((size_t)na, sizeof *c->att_to);
+        c->att_order = calloc((size_t)na, sizeof *c->att_order);
+        sim_phases_init(&c->phases);
     }
-    if (!c || !c->acc || !c->att_from || !c->att_to) {
+    if (!c || !c->acc || !c->att_from || !c->att_to || !c->att_order) {
         snprintf(err, err_size, "C backend: out of memory for %d vertices", s->cloth.nv);
         c_destroy(c);
         return -SIM_ERR_NO_MEMORY;
+    }
+    /* the attachments by vertex (a stable insertion sort: a garment has a row or two of them), so
+     * that each chunk of vertices places its own */
+    const sim_attachment *att = s->cloth.attachments;
+    for (int a = 0; a < s->cloth.num_attachments; a++) {
+        int k = a;
+        for (; k > 0 && att[c->att_order[k - 1]].vertex > att[a].vertex; k--)
+            c->att_order[k] = c->att_order[k - 1];
+        c->att_order[k] = a;
     }
     int threads = 1;
 #ifdef _OPENMP
@@ -89,11 +104,21 @@ static void attachment_targets(struct sim *s, c_state *cs)
     }
 }
 
-static void place_attachments(struct sim *s, const c_state *cs, int it, int iters)
+/* The attachments on vertices [vb, ve) to step it of iters (att_order: by vertex). */
+static void place_attachments(struct sim *s, const c_state *cs, int it, int iters, int vb, int ve)
 {
+    const sim_attachment *att = s->cloth.attachments;
+    int lo = 0, hi = s->cloth.num_attachments;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (att[cs->att_order[mid]].vertex < vb)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
     float u = (float)(it + 1) / (float)iters;
-    for (int a = 0; a < s->cloth.num_attachments; a++) {
-        int v = s->cloth.attachments[a].vertex;
+    for (int k = lo; k < s->cloth.num_attachments && att[cs->att_order[k]].vertex < ve; k++) {
+        int a = cs->att_order[k], v = att[a].vertex;
         for (int d = 0; d < 3; d++) {
             s->cloth.x_prev[v][d] = s->cloth.x[v][d];
             s->cloth.x[v][d] = cs->att_from[a][d] + u * (cs->att_to[a][d] - cs->att_from[a][d]);
@@ -113,16 +138,54 @@ static float frame_travel(const sim_cloth *c, int iters)
     return sqrtf(m2) * (float)iters;
 }
 
-/* One Gauss-Seidel sweep of the strain limit over the stretch colours (inside a parallel
- * region: each thread its share of a colour, the team barrier between colours). */
-static void strain_limit_sweep(sim_cloth *c, float limit, sim_team_barrier *bar)
+/* Chunk sizes worth a claim of their own (sim_phase_claim): a few microseconds of work. */
+#define GRAIN_SPRINGS  256
+#define GRAIN_VERTICES 512
+
+/* The phases of a frame of the tryon iterations (one per pass, as iterations_tryon runs them). */
+static int tryon_phases(const sim_cloth *c, int iters)
 {
-    for (int col = 0; col < c->num_stretch_colors; col++) {
-        int sb, se, n0 = c->color_start[col];
-        thread_range(c->color_start[col + 1] - n0, &sb, &se);
-        sim_strain_limit(c->x, c->ends, c->rest, c->kind, n0 + sb, n0 + se, limit);
-        sim_team_barrier_wait(bar);
+    int step = 2 + c->num_colors + c->num_stretch_colors;
+    return iters * step + 1 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1);
+}
+
+/* One phase: springs [first, last) of one colour, XPBD (alpha) or the strain limit (!alpha). */
+static void springs_phase(sim_phases *ph, sim_phase_cursor *cur, sim_cloth *c, int first, int last,
+                          const float *alpha, float limit)
+{
+    int b, e;
+    while (sim_phase_claim(ph, cur, last - first, GRAIN_SPRINGS, &b, &e)) {
+        if (alpha)
+            sim_project_springs(c->x, c->ends, c->rest, c->kind, alpha, first + b, first + e);
+        else
+            sim_strain_limit(c->x, c->ends, c->rest, c->kind, first + b, first + e, limit);
     }
+    sim_phase_end(ph, cur, 0);
+}
+
+/* One Gauss-Seidel sweep of the strain limit over the stretch colours. */
+static void strain_limit_sweep(sim_phases *ph, sim_phase_cursor *cur, sim_cloth *c, float limit)
+{
+    for (int col = 0; col < c->num_stretch_colors; col++)
+        springs_phase(ph, cur, c, c->color_start[col], c->color_start[col + 1], NULL, limit);
+}
+
+/* Per vertex: the tethers (anchors are attached and do not move), the contacts, then for what
+ * follows: the post-stabilisation's bracket (end: this round's, begin: the next round's). */
+static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, float limit,
+                         int post_end, int post_begin, int wake)
+{
+    sim_cloth *c = &s->cloth;
+    int b, e;
+    while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+        sim_tethers(c->x, c->tether_anchor, c->tether_len, b, e, limit);
+        if (post_end)
+            sim_post_end(c->x, c->x_prev, b, e);
+        sim_collider_resolve(s->collider, c->x, c->x_prev, b, e);
+        if (post_begin)
+            sim_post_begin(c->x, c->x_prev, b, e);
+    }
+    sim_phase_end(ph, cur, wake);
 }
 
 static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
@@ -138,39 +201,40 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
      * point may approach the body unseen (0.03 m / 5 steps of 1.3 ms: 4.5 m/s). The body's own
      * motion is carried by the feature points. The seed searches every step. */
     int refresh = frame_travel(c, iters) > 0.5f * SIM_CONTACT_MARGIN ? SIM_CONTACT_EVERY : 0;
-    /* one barrier per colour: sim_team_barrier, not an OpenMP one (team_barrier.h) */
-    sim_team_barrier bar;
-#pragma omp parallel
-    {
-        int vb, ve, first = 1;
-        thread_range(c->nv, &vb, &ve);
+    int threads = 1;
 #ifdef _OPENMP
-        first = omp_get_thread_num() == 0;
-#pragma omp single
-        sim_team_barrier_init(&bar, omp_get_num_threads());
-#else
-        sim_team_barrier_init(&bar, 1);
+    threads = omp_get_max_threads();
 #endif
+    /* one phase per pass, shared out in chunks (phases.h); out of memory: one thread */
+    if (sim_phases_reset(&cs->phases, threads, tryon_phases(c, iters)) < 0)
+        threads = 1, sim_phases_reset(&cs->phases, 1, 0);
+    sim_phases *ph = &cs->phases;
+#pragma omp parallel num_threads(threads)
+    {
+        sim_phase_cursor cur;
+        int t = 0, nt = 1, b, e;
+#ifdef _OPENMP
+        t = omp_get_thread_num();
+        nt = omp_get_num_threads();
+#endif
+        sim_phase_cursor_init(&cur, t, nt < ph->threads ? nt : ph->threads);
         for (int it = 0; it < iters; it++) {
-            if (refresh && it > 0 && it % refresh == 0)
-                sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, vb, ve);
-            sim_verlet(c->x, c->x_prev, vb, ve, keep, g);
-            if (first)
-                place_attachments(s, cs, it, iters);
-            sim_team_barrier_wait(&bar);
-            for (int col = 0; col < c->num_colors; col++) {
-                int sb, se, n0 = c->color_start[col];
-                thread_range(c->color_start[col + 1] - n0, &sb, &se);
-                sim_project_springs(c->x, c->ends, c->rest, c->kind, alpha, n0 + sb, n0 + se);
-                sim_team_barrier_wait(&bar);
+            /* per vertex: the contacts refreshed, Verlet, the attachments placed (the previous
+             * phase's tethers were the last to read them) */
+            while (sim_phase_claim(ph, &cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+                if (refresh && it > 0 && it % refresh == 0)
+                    sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+                sim_verlet(c->x, c->x_prev, b, e, keep, g);
+                place_attachments(s, cs, it, iters, b, e);
             }
+            sim_phase_end(ph, &cur, 1);
+            for (int col = 0; col < c->num_colors; col++)
+                springs_phase(ph, &cur, c, c->color_start[col], c->color_start[col + 1], alpha,
+                              limit);
             /* the strain limit after shear and bend, which may stretch what it fixed */
-            strain_limit_sweep(c, limit, &bar);
-            /* per vertex from here on: tethers (anchors are attached and do not move), then
-             * the contacts, each thread on its own vertices */
-            sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
-            sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
-            sim_team_barrier_wait(&bar);
+            strain_limit_sweep(ph, &cur, c, limit);
+            /* after the last step the post-stabilisation's bracket opens (below) */
+            vertex_phase(s, ph, &cur, limit, 0, it == iters - 1, 0);
         }
         /* Post-stabilisation of the strain limit (docs/sim.md): one Gauss-Seidel sweep per step
          * moves a correction about one spring, so a long region stretched a little stays
@@ -181,17 +245,15 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
          * contact push undoes strain where the body moved into the cloth in the last step (about
          * the relative speed times the step: 20 % at 25 steps in the walk, docs/sim.md). */
         for (int r = -1; r < SIM_POST_ROUNDS; r++) {
-            sim_post_begin(c->x, c->x_prev, vb, ve);
-            sim_team_barrier_wait(&bar);
             if (r < 0) {
-#pragma omp single
-                sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
-                                     c->hier_rest, 0, c->hier_level_start[c->hier_levels], limit);
+                while (sim_phase_claim(ph, &cur, 1, 1, &b, &e))
+                    sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
+                                         c->hier_rest, 0, c->hier_level_start[c->hier_levels],
+                                         limit);
+                sim_phase_end(ph, &cur, 0);
             }
-            strain_limit_sweep(c, limit, &bar);
-            sim_tethers(c->x, c->tether_anchor, c->tether_len, vb, ve, limit);
-            sim_post_end(c->x, c->x_prev, vb, ve);
-            sim_collider_resolve(s->collider, c->x, c->x_prev, vb, ve);
+            strain_limit_sweep(ph, &cur, c, limit);
+            vertex_phase(s, ph, &cur, limit, 1, r + 1 < SIM_POST_ROUNDS, r + 1 == SIM_POST_ROUNDS);
         }
     }
 }
@@ -220,7 +282,7 @@ static void iterations_seed(struct sim *s, c_state *cs, int iters, float dt, flo
             }
             sim_verlet_forces(c->x, c->x_prev, (const float(*)[4])acc, vb, ve, keep, g);
 #pragma omp single
-            place_attachments(s, cs, it, iters);
+            place_attachments(s, cs, it, iters, 0, c->nv);
             for (int col = 0; col < c->num_colors; col++) {
 #pragma omp for schedule(static)
                 for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {

@@ -1,6 +1,7 @@
 /* The C twins of kernels/springs.cl: integration and the spring passes. Same names, same order of
  * operations; each function handles a range so the caller can split it over threads. */
 #include <math.h>
+#include <string.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -85,26 +86,27 @@ static inline __m128 spring4_len(const spring4 *q)
 
 typedef struct spring8 {
     __m256 xi[4], xj[4]; /* the ends as stored, springs k and k + 4 in xi[k] */
-    __m256 dx, dy, dz, wi, wj;
+    __m256 d[4];         /* x[j] - x[i] as rows, w lane wj - wi (unused) */
+    __m256 dx, dy, dz;   /* the same per lane */
+    __m256 w2;           /* wi + wj per lane */
 } spring8;
 
+/* The w lane of each row of d replaced by wi + wj before the transpose gives the inverse-mass sum
+ * lane by lane without a transpose of its own. */
 static inline AVX void spring8_load(spring8 *q, const float (*x)[4], const int32_t (*ends)[2],
                                     int s)
 {
-    __m256 d[4];
+    __m256 r[4];
     for (int k = 0; k < 4; k++) {
         q->xi[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(x[ends[s + k][0]])),
                                         _mm_loadu_ps(x[ends[s + k + 4][0]]), 1);
         q->xj[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(x[ends[s + k][1]])),
                                         _mm_loadu_ps(x[ends[s + k + 4][1]]), 1);
-        d[k] = _mm256_sub_ps(q->xj[k], q->xi[k]);
+        q->d[k] = _mm256_sub_ps(q->xj[k], q->xi[k]);
+        r[k] = _mm256_blend_ps(q->d[k], _mm256_add_ps(q->xi[k], q->xj[k]), 0x88);
     }
-    TRANSPOSE8(d[0], d[1], d[2], d[3]);
-    q->dx = d[0], q->dy = d[1], q->dz = d[2];
-    q->wi = _mm256_shuffle_ps(_mm256_unpackhi_ps(q->xi[0], q->xi[1]),
-                              _mm256_unpackhi_ps(q->xi[2], q->xi[3]), _MM_SHUFFLE(3, 2, 3, 2));
-    q->wj = _mm256_shuffle_ps(_mm256_unpackhi_ps(q->xj[0], q->xj[1]),
-                              _mm256_unpackhi_ps(q->xj[2], q->xj[3]), _MM_SHUFFLE(3, 2, 3, 2));
+    TRANSPOSE8(r[0], r[1], r[2], r[3]);
+    q->dx = r[0], q->dy = r[1], q->dz = r[2], q->w2 = r[3];
 }
 
 static inline AVX __m256 spring8_len(const spring8 *q)
@@ -114,20 +116,23 @@ static inline AVX __m256 spring8_len(const spring8 *q)
                       _mm256_mul_ps(q->dz, q->dz)));
 }
 
-/* x[i] += d c wi, x[j] -= d c wj for the lanes in mask. The w lane gets w + 0 (w - 0 at j),
- * which is w itself: an inverse mass is +0 or positive, never -0 (sim_cloth_init). */
+/* x[i] += d c wi, x[j] -= d c wj for the lanes in mask, row by row (c and w broadcast within
+ * each half); the w lane is put back as it was. */
 static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32_t (*ends)[2],
                                     int s, __m256 c, int mask)
 {
-    __m256 tx = _mm256_mul_ps(q->dx, c), ty = _mm256_mul_ps(q->dy, c), tz = _mm256_mul_ps(q->dz, c);
-    __m256 a[4] = {_mm256_mul_ps(tx, q->wi), _mm256_mul_ps(ty, q->wi), _mm256_mul_ps(tz, q->wi),
-                   _mm256_setzero_ps()};
-    __m256 b[4] = {_mm256_mul_ps(tx, q->wj), _mm256_mul_ps(ty, q->wj), _mm256_mul_ps(tz, q->wj),
-                   _mm256_setzero_ps()};
-    TRANSPOSE8(a[0], a[1], a[2], a[3]);
-    TRANSPOSE8(b[0], b[1], b[2], b[3]);
     for (int k = 0; k < 4; k++) {
-        __m256 ni = _mm256_add_ps(q->xi[k], a[k]), nj = _mm256_sub_ps(q->xj[k], b[k]);
+        if (!(mask >> k & 0x11))
+            continue;
+        __m256 ck = k == 0   ? _mm256_permute_ps(c, 0x00)
+                    : k == 1 ? _mm256_permute_ps(c, 0x55)
+                    : k == 2 ? _mm256_permute_ps(c, 0xaa)
+                             : _mm256_permute_ps(c, 0xff);
+        __m256 t = _mm256_mul_ps(q->d[k], ck);
+        __m256 ni = _mm256_add_ps(q->xi[k], _mm256_mul_ps(t, _mm256_permute_ps(q->xi[k], 0xff)));
+        __m256 nj = _mm256_sub_ps(q->xj[k], _mm256_mul_ps(t, _mm256_permute_ps(q->xj[k], 0xff)));
+        ni = _mm256_blend_ps(ni, q->xi[k], 0x88);
+        nj = _mm256_blend_ps(nj, q->xj[k], 0x88);
         if (mask >> k & 1) {
             _mm_storeu_ps(x[ends[s + k][0]], _mm256_castps256_ps128(ni));
             _mm_storeu_ps(x[ends[s + k][1]], _mm256_castps256_ps128(nj));
@@ -143,13 +148,19 @@ static inline AVX void spring8_move(const spring8 *q, float (*x)[4], const int32
 static AVX int project8(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                         const uint8_t *kind, const float alpha[SIM_SPRING_KINDS], int s, int end)
 {
+    /* the kinds' alphas in each half (vpermilps selects within a half) */
+    const __m256 table = _mm256_setr_ps(alpha[0], alpha[1], alpha[2], alpha[2], alpha[0], alpha[1],
+                                        alpha[2], alpha[2]);
     for (; s + 8 <= end; s += 8) {
         spring8 q;
         spring8_load(&q, (const float(*)[4])x, ends, s);
-        __m256 al = _mm256_set_ps(alpha[kind[s + 7]], alpha[kind[s + 6]], alpha[kind[s + 5]],
-                                  alpha[kind[s + 4]], alpha[kind[s + 3]], alpha[kind[s + 2]],
-                                  alpha[kind[s + 1]], alpha[kind[s]]);
-        __m256 w2 = _mm256_add_ps(q.wi, q.wj);
+        /* alpha[kind] lane by lane: a select from the table in a register (built lane by lane
+         * from memory it cost a store-forwarding stall per eight springs) */
+        __m128i k8 = _mm_loadl_epi64((const __m128i *)(const void *)(kind + s));
+        __m256i idx = _mm256_insertf128_si256(_mm256_castsi128_si256(_mm_cvtepu8_epi32(k8)),
+                                              _mm_cvtepu8_epi32(_mm_srli_si128(k8, 4)), 1);
+        __m256 al = _mm256_permutevar_ps(table, idx);
+        __m256 w2 = q.w2;
         __m256 wsum = _mm256_add_ps(w2, al);
         __m256 len = spring8_len(&q);
         int mask = _mm256_movemask_ps(
@@ -172,13 +183,15 @@ static AVX int strain8(float (*x)[4], const int32_t (*ends)[2], const float *res
     for (; s + 8 <= end; s += 8) {
         spring8 q;
         spring8_load(&q, (const float(*)[4])x, ends, s);
-        __m256 wsum = _mm256_add_ps(q.wi, q.wj);
+        __m256 wsum = q.w2;
         __m256 len = spring8_len(&q);
         __m256 lmax = _mm256_mul_ps(_mm256_loadu_ps(rest + s), scale);
         int mask =
             _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(wsum, _mm256_setzero_ps(), _CMP_NEQ_UQ),
                                              _mm256_cmp_ps(len, lmax, _CMP_NLE_UQ)));
-        for (int k = 0; k < 8; k++)
+        uint64_t k8; /* the stretch colours hold stretch springs only: all eight, as a rule */
+        memcpy(&k8, kind + s, sizeof k8);
+        for (int k = 0; k8 != SIM_SPRING_STRETCH * UINT64_C(0x0101010101010101) && k < 8; k++)
             if (kind[s + k] != SIM_SPRING_STRETCH)
                 mask &= ~(1 << k);
         if (!mask)
@@ -190,8 +203,8 @@ static AVX int strain8(float (*x)[4], const int32_t (*ends)[2], const float *res
 }
 #endif
 
-void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
-                const float accel_dt2[3])
+static void verlet_scalar(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
+                          const float accel_dt2[3])
 {
     for (int i = begin; i < end; i++) {
         if (x[i][3] == 0.0f)
@@ -203,6 +216,46 @@ void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float kee
             x[i][d] = xi + v + accel_dt2[d];
         }
     }
+}
+
+#ifdef SIM_HAVE_AVX_PATH
+/* sim_verlet two vertices at a time over [i, end) while neither is pinned; returns where it
+ * stopped. Each lane the scalar loop's operations; the w lanes are put back as they were. */
+static AVX int verlet2(float (*x)[4], float (*x_prev)[4], int i, int end, float keep,
+                       const float accel_dt2[3])
+{
+    const __m256 k = _mm256_set1_ps(keep);
+    const __m256 g = _mm256_setr_ps(accel_dt2[0], accel_dt2[1], accel_dt2[2], 0.0f, accel_dt2[0],
+                                    accel_dt2[1], accel_dt2[2], 0.0f);
+    for (; i + 2 <= end; i += 2) {
+        __m256 xi = _mm256_loadu_ps(x[i]);
+        if (_mm256_movemask_ps(_mm256_cmp_ps(xi, _mm256_setzero_ps(), _CMP_EQ_OQ)) & 0x88)
+            break; /* a pinned vertex: the scalar loop takes these two */
+        __m256 p = _mm256_loadu_ps(x_prev[i]);
+        __m256 v = _mm256_mul_ps(_mm256_sub_ps(xi, p), k);
+        __m256 n = _mm256_add_ps(_mm256_add_ps(xi, v), g);
+        _mm256_storeu_ps(x_prev[i], _mm256_blend_ps(xi, p, 0x88));
+        _mm256_storeu_ps(x[i], _mm256_blend_ps(n, xi, 0x88));
+    }
+    return i;
+}
+#endif
+
+void sim_verlet(float (*x)[4], float (*x_prev)[4], int begin, int end, float keep,
+                const float accel_dt2[3])
+{
+    int i = begin;
+#ifdef SIM_HAVE_AVX_PATH
+    if (__builtin_cpu_supports("avx"))
+        while (i + 2 <= end) {
+            i = verlet2(x, x_prev, i, end, keep, accel_dt2);
+            if (i + 2 > end)
+                break;
+            verlet_scalar(x, x_prev, i, i + 2, keep, accel_dt2);
+            i += 2;
+        }
+#endif
+    verlet_scalar(x, x_prev, i, end, keep, accel_dt2);
 }
 
 /* Seed 003 / seed 000: f_i = sum_j k_ij (|x_j - x_i| - l_ij) along the spring, plus a damper on
@@ -442,9 +495,10 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
         __m128 l = _mm_sqrt_ps(_mm_add_ps(
             _mm_add_ps(_mm_mul_ps(d[0], d[0]), _mm_mul_ps(d[1], d[1])), _mm_mul_ps(d[2], d[2])));
         __m128 lmax = _mm_mul_ps(_mm_loadu_ps(len + i), scale);
-        mask &= _mm_movemask_ps(_mm_cmpnle_ps(l, lmax)); /* l <= lmax: in reach (a NaN goes on) */
-        if (!mask)
-            continue;
+        /* l <= lmax: in reach (a NaN goes on). Mid-step which of four neighbours are out of
+         * reach is a coin toss for the branch predictor: every tethered free vertex is stored,
+         * one in reach as it was (the anchors, attached, are read by other ranges: not stored) */
+        int move = mask & _mm_movemask_ps(_mm_cmpnle_ps(l, lmax));
         __m128 c = _mm_div_ps(_mm_sub_ps(l, lmax), l);
         __m128 t[4] = {_mm_mul_ps(d[0], c), _mm_mul_ps(d[1], c), _mm_mul_ps(d[2], c),
                        _mm_setzero_ps()};
@@ -453,7 +507,8 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
             if (!(mask >> k & 1))
                 continue;
             __m128 n = _mm_sub_ps(xi[k], t[k]);
-            _mm_storeu_ps(x[i + k], _mm_or_ps(_mm_and_ps(xyz, n), _mm_andnot_ps(xyz, xi[k])));
+            __m128 sel = _mm_and_ps(xyz, _mm_castsi128_ps(_mm_set1_epi32(-(move >> k & 1))));
+            _mm_storeu_ps(x[i + k], _mm_or_ps(_mm_and_ps(sel, n), _mm_andnot_ps(sel, xi[k])));
         }
     }
 #endif

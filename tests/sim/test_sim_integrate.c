@@ -57,12 +57,13 @@ static float wide_rand(uint32_t *r, float lo, float hi)
 /* The spring passes run 4 or 8 springs (vertices) at a time where the CPU allows: one call over a
  * colour must equal, bit for bit, the same springs one call each (the scalar loop). A colour of 203
  * springs on 512 vertices (a random matching: no shared vertex), some ends pinned (w = 0), some
- * springs of zero length, most stretched past the limit, all kinds. */
+ * springs of zero length, most stretched past the limit, all kinds. Verlet (two vertices at a
+ * time) likewise, x_prev included, an odd count so the tail runs scalar. */
 static void test_sim_spring_passes_wide_equal_scalar(void **state)
 {
     (void)state;
     enum { NV = 512, NS = 203 };
-    static float x0[NV][4], xw[NV][4], xs[NV][4];
+    static float x0[NV][4], xw[NV][4], xs[NV][4], p0[NV][4], pw[NV][4], ps[NV][4];
     static int32_t ends[NS][2], perm[NV], anchor[NV];
     static float rest[NS], tlen[NV];
     static uint8_t kind[NS];
@@ -72,6 +73,8 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
             x0[i][k] = wide_rand(&r, -1.0f, 1.0f);
         x0[i][3] = wide_rand(&r, 0.0f, 1.0f) < 0.1f ? 0.0f : wide_rand(&r, 10.0f, 100.0f);
         perm[i] = i;
+        for (int k = 0; k < 4; k++)
+            p0[i][k] = x0[i][k] + (k < 3 ? wide_rand(&r, -0.01f, 0.01f) : 0.0f);
     }
     for (int i = NV - 1; i > 0; i--) {
         int j = (int)wide_rand(&r, 0.0f, (float)(i + 1)) % (i + 1), t = perm[i];
@@ -93,9 +96,12 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
         tlen[i] = wide_rand(&r, 0.5f, 2.0f);
     }
     const float alpha[SIM_SPRING_KINDS] = {1e-3f, 2e-3f, 5e-2f};
-    for (int pass = 0; pass < 3; pass++) {
+    const float g[3] = {0.0f, -1e-4f, 0.0f};
+    for (int pass = 0; pass < 4; pass++) {
         memcpy(xw, x0, sizeof x0);
         memcpy(xs, x0, sizeof x0);
+        memcpy(pw, p0, sizeof p0);
+        memcpy(ps, p0, sizeof p0);
         if (pass == 0) {
             sim_project_springs(xw, (const int32_t(*)[2])ends, rest, kind, alpha, 0, NS);
             for (int s = 0; s < NS; s++)
@@ -104,6 +110,11 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
             sim_strain_limit(xw, (const int32_t(*)[2])ends, rest, kind, 0, NS, 0.01f);
             for (int s = 0; s < NS; s++)
                 sim_strain_limit(xs, (const int32_t(*)[2])ends, rest, kind, s, s + 1, 0.01f);
+        } else if (pass == 3) {
+            sim_verlet(xw, pw, 0, NV - 1, 0.999f, g);
+            for (int i = 0; i < NV - 1; i++)
+                sim_verlet(xs, ps, i, i + 1, 0.999f, g);
+            assert_memory_equal(pw, ps, sizeof pw);
         } else {
             /* tethers move free vertices towards anchors that do not move: anchors pinned */
             for (int i = 0; i < NV; i++)
