@@ -41,7 +41,7 @@ __kernel void sim_feature_points(__global float4 *x, __global float4 *x_prev, in
                                  __global const float4 *n_k, int nleaves,
                                  __global const int2 *child, __global const int *order,
                                  __global const float4 *slo, __global const float4 *shi, float h,
-                                 __global int *moved)
+                                 float coulomb_mu, __global int *moved)
 {
     int i = begin + (int)get_global_id(0);
     if (i >= end)
@@ -94,6 +94,23 @@ __kernel void sim_feature_points(__global float4 *x, __global float4 *x_prev, in
     np.x = th.x * a.x + th.y * b.x + th.z * c.x + off * nk.x;
     np.y = th.x * a.y + th.y * b.y + th.z * c.y + off * nk.y;
     np.z = th.x * a.z + th.y * b.z + th.z * c.z + off * nk.z;
+    if (coulomb_mu >= 0.0f) {
+        /* twin of coulomb_carry: the push along n^k whole, the slide up to mu times it */
+        float4 d = sim_sub3(np, p);
+        float dn = sim_dot3(d, nk);
+        float4 s;
+        s.x = d.x - dn * nk.x;
+        s.y = d.y - dn * nk.y;
+        s.z = d.z - dn * nk.z;
+        s.w = 0.0f;
+        float slide = sqrt(sim_dot3(s, s)), most = coulomb_mu * fabs(dn);
+        if (slide > most) {
+            float keep = most / slide;
+            np.x = p.x + dn * nk.x + keep * s.x;
+            np.y = p.y + dn * nk.y + keep * s.y;
+            np.z = p.z + dn * nk.z + keep * s.z;
+        }
+    }
     float4 pp = x_prev[i];
     float sx = np.x - p.x, sy = np.y - p.y, sz = np.z - p.z;
     x[i] = (float4)(np.x, np.y, np.z, p.w);

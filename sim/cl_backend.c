@@ -305,8 +305,8 @@ static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
         goto fail;
     st->feature_points_moved = 0;
     int fp = s->body.have_prev && c->g.have_prev;
-    if (fp &&
-        sim_cl_collide_feature_points(&c->g, c->x, c->x_prev, 0, k->nv, col->d.thickness_m) != 0)
+    if (fp && sim_cl_collide_feature_points(&c->g, c->x, c->x_prev, 0, k->nv, col->d.thickness_m,
+                                            col->d.carry_coulomb ? col->d.friction : -1.0f) != 0)
         goto fail;
     if (fp && clEnqueueReadBuffer(c->cl.queue, c->g.moved, CL_FALSE, 0, (size_t)k->nv * 4, c->moved,
                                   0, NULL, NULL) != CL_SUCCESS)

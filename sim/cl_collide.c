@@ -189,7 +189,7 @@ out:
 }
 
 int sim_cl_collide_feature_points(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin, int end,
-                                  float thickness_m)
+                                  float thickness_m, float coulomb_mu)
 {
     if (!g->have_prev || end <= begin)
         return 0;
@@ -209,7 +209,8 @@ int sim_cl_collide_feature_points(sim_cl_collide *g, cl_mem x, cl_mem x_prev, in
     st |= ARG(k, 12, g->slo);
     st |= ARG(k, 13, g->shi);
     st |= ARG(k, 14, thickness_m);
-    st |= ARG(k, 15, g->moved);
+    st |= ARG(k, 15, coulomb_mu);
+    st |= ARG(k, 16, g->moved);
     if (st != CL_SUCCESS)
         return SIM_CL_ECALL;
     return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;

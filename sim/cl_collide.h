@@ -33,8 +33,10 @@ void sim_cl_collide_destroy(sim_cl_collide *g); /* accepts a zeroed g */
 int sim_cl_collide_set_body(sim_cl_collide *g, const sim_collider *c, char *err, size_t err_size);
 
 /* The per-point passes on device buffers of float4 (x, x_prev): enqueued, not waited for. */
+/* coulomb_mu >= 0: the tryon carry with that friction (coulomb_carry, sim/feature_points.c);
+   < 0: seed 000's Eq. 2 */
 int sim_cl_collide_feature_points(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin, int end,
-                                  float thickness_m);
+                                  float thickness_m, float coulomb_mu);
 int sim_cl_collide_find_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m);
 /* Twin of sim_collider_track_contacts: the surface walk from each cached triangle. */
 int sim_cl_collide_track_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m);

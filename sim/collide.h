@@ -48,6 +48,10 @@ typedef struct sim_collider_desc {
     float friction;                  /* Coulomb-like coefficient mu, >= 0 */
     float reach_m; /* contact search radius beyond thickness; 0 = 0.03 (covers a frame's motion) */
     int max_cloth; /* cloth points the contact cache holds; 0 = none until sim_collider_reserve */
+    /* Feature points: 0 = seed 000's Eq. 2, the point carried with its triangle's whole motion;
+       1 = the motion along the triangle's normal whole, along its surface only up to friction
+       times that (Coulomb: the tryon solver; sim_collider_feature_points) */
+    int carry_coulomb;
 } sim_collider_desc;
 
 /* NULL on failure with the reason in err. */

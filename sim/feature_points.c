@@ -92,6 +92,28 @@ static void carry(const sim_collider *c, int t, const float p[3], float out[3])
                  off * c->n[t][k];
 }
 
+/* The tryon solver's carry (carry_coulomb): of the displacement out - p that Eq. 2 gives, the part
+   along n^k, the body pushing the point out, is taken whole, the part along the surface only up to
+   friction times it, as much as a Coulomb contact passes on. Eq. 2 carries a swept point with
+   all of its triangle's motion, as if glued: a torso that turns drags the cloth it touches round
+   with it, hoops stretch between the carried points and their neighbours (docs/sim.md, "Strain in
+   motion"). The point keeps its height above T^k's plane (the change is along the surface). */
+static void coulomb_carry(const sim_collider *c, int t, const float p[3], float out[3])
+{
+    const float *n = c->n[t];
+    float d[3], s[3];
+    sub3(out, p, d);
+    float dn = dot3(d, n);
+    for (int k = 0; k < 3; k++)
+        s[k] = d[k] - dn * n[k];
+    float slide = sqrtf(dot3(s, s)), most = c->d.friction * fabsf(dn);
+    if (!(slide > most))
+        return;
+    float keep = most / slide;
+    for (int k = 0; k < 3; k++)
+        out[k] = p[k] + dn * n[k] + keep * s[k];
+}
+
 /* D-BVH traversal: every triangle whose swept box holds p and whose swept prism holds p is a
    feature pair; the one nearest to p on frame k-1 wins (ties: lower triangle index). No cap on
    the candidates: a fast limb's swept boxes are several triangles wide, so a point sits in dozens
@@ -148,6 +170,8 @@ int sim_collider_feature_points(sim_collider *c, float (*x)[4], float (*x_prev)[
             continue;
         float p[3];
         carry(c, t, x[i], p);
+        if (c->d.carry_coulomb)
+            coulomb_carry(c, t, x[i], p);
         for (int k = 0; k < 3; k++) {
             float step = p[k] - x[i][k];
             x[i][k] = p[k];

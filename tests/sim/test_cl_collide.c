@@ -224,11 +224,9 @@ static void compare_points(float (*a)[4], float (*b)[4], int n)
             assert_float_equal(a[i][k], b[i][k], POS_TOL);
 }
 
-static void test_cl_feature_points_match_c(void **state)
+static void feature_points_match_c(fixture *f, int coulomb)
 {
-    fixture *f = *state;
-    if (!f)
-        skip();
+    f->c->d.carry_coulomb = coulomb;
     float(*x)[4] = malloc(NP * sizeof *x), (*xp)[4] = malloc(NP * sizeof *xp);
     float(*dx)[4] = malloc(NP * sizeof *dx), (*dxp)[4] = malloc(NP * sizeof *dxp);
     memcpy(x, f->hx, NP * sizeof *x);
@@ -237,7 +235,9 @@ static void test_cl_feature_points_match_c(void **state)
     put(f, f->x_prev, NP * 16, xp);
     int moved = sim_collider_feature_points(f->c, x, xp, 0, NP);
     assert_true(moved > 100); /* the case is not vacuous */
-    assert_int_equal(sim_cl_collide_feature_points(&f->g, f->x, f->x_prev, 0, NP, 0.004f), 0);
+    assert_int_equal(sim_cl_collide_feature_points(&f->g, f->x, f->x_prev, 0, NP, 0.004f,
+                                                   coulomb ? f->c->d.friction : -1.0f),
+                     0);
     read(f, f->x, NP * 16, dx);
     read(f, f->x_prev, NP * 16, dxp);
     int32_t *flags = malloc(NP * sizeof *flags);
@@ -253,6 +253,17 @@ static void test_cl_feature_points_match_c(void **state)
     free(xp);
     free(dx);
     free(dxp);
+    f->c->d.carry_coulomb = 0;
+}
+
+/* Both carries: seed 000's Eq. 2 and the tryon solver's Coulomb-bounded one. */
+static void test_cl_feature_points_match_c(void **state)
+{
+    fixture *f = *state;
+    if (!f)
+        skip();
+    feature_points_match_c(f, 0);
+    feature_points_match_c(f, 1);
 }
 
 static void test_cl_contacts_resolve_and_distance_match_c(void **state)

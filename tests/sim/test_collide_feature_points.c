@@ -19,17 +19,23 @@
 static const float tri0[9] = {-0.1f, 0.0f, -0.1f, 0.0f, 0.0f, 0.1f, 0.1f, 0.0f, -0.1f};
 static const int32_t one_tri[3] = {0, 1, 2};
 
-static sim_collider *make(void)
+static sim_collider *make_carry(int coulomb)
 {
     char err[128];
     sim_collider *c = sim_collider_create(&(sim_collider_desc){.max_vertices = 16,
                                                                .max_triangles = 8,
                                                                .thickness_m = THICK,
                                                                .friction = 0.3f,
-                                                               .max_cloth = 16},
+                                                               .max_cloth = 16,
+                                                               .carry_coulomb = coulomb},
                                           err, sizeof err);
     assert_non_null(c);
     return c;
+}
+
+static sim_collider *make(void)
+{
+    return make_carry(0);
 }
 
 typedef void (*motion)(const float in[3], float out[3]);
@@ -193,6 +199,45 @@ static void test_feature_point_above_convex_ridge_is_carried(void **state)
     sim_collider_destroy(c);
 }
 
+/* Rise 2 cm and slide 5 cm along +x: a body part moving mostly along its own surface. */
+static void rise_slide(const float in[3], float out[3])
+{
+    out[0] = in[0] + 0.05f, out[1] = in[1] + 0.02f, out[2] = in[2];
+}
+
+/* The tryon carry: the push along the normal whole, the slide only up to friction (0.3) times
+   it; Eq. 2 takes the slide whole. A pure push is the same under both. */
+static void test_feature_point_coulomb_carry_bounds_the_slide(void **state)
+{
+    (void)state;
+    for (int coulomb = 0; coulomb < 2; coulomb++) {
+        sim_collider *c = make_carry(coulomb);
+        float next[9];
+        move_tri(rise_slide, tri0, next, 3);
+        assert_int_equal(sim_collider_set_body(c, tri0, 3, one_tri, 1), 0);
+        assert_int_equal(sim_collider_set_body(c, next, 3, one_tri, 1), 0);
+        float x[1][4] = {{0.01f, 0.01f, 0.02f, 1.0f}}, xp[1][4] = {{0.01f, 0.01f, 0.02f, 1.0f}};
+        assert_int_equal(sim_collider_feature_points(c, x, xp, 0, 1), 1);
+        /* height above the risen plane kept (1 cm); x: 0.01 + 0.05 (Eq. 2) or + 0.3 * 0.02 */
+        assert_float_equal(x[0][1], 0.03f, POS_TOL_M);
+        assert_float_equal(x[0][0], coulomb ? 0.016f : 0.06f, POS_TOL_M);
+        assert_float_equal(x[0][2], 0.02f, POS_TOL_M);
+        assert_float_equal(x[0][0] - xp[0][0], 0.0f, POS_TOL_M); /* velocity kept */
+        sim_collider_destroy(c);
+
+        c = make_carry(coulomb);
+        move_tri(up5cm, tri0, next, 3);
+        assert_int_equal(sim_collider_set_body(c, tri0, 3, one_tri, 1), 0);
+        assert_int_equal(sim_collider_set_body(c, next, 3, one_tri, 1), 0);
+        float y[1][4] = {{0.01f, 0.02f, -0.02f, 1.0f}}, yp[1][4] = {{0.01f, 0.02f, -0.02f, 1.0f}};
+        assert_int_equal(sim_collider_feature_points(c, y, yp, 0, 1), 1);
+        assert_float_equal(y[0][0], 0.01f, POS_TOL_M);
+        assert_float_equal(y[0][1], 0.07f, POS_TOL_M);
+        assert_float_equal(y[0][2], -0.02f, POS_TOL_M);
+        sim_collider_destroy(c);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -201,6 +246,7 @@ int main(void)
         cmocka_unit_test(test_feature_point_nearest_of_several_triangles_wins),
         cmocka_unit_test(test_feature_point_above_convex_ridge_is_carried),
         cmocka_unit_test(test_feature_point_needs_two_frames_of_one_topology),
+        cmocka_unit_test(test_feature_point_coulomb_carry_bounds_the_slide),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
