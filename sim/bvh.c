@@ -32,9 +32,12 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
     b->shi = malloc(nodes * sizeof *b->shi);
     b->counter = malloc(n * sizeof *b->counter);
     b->scratch = malloc(4 * n * sizeof *b->scratch);
-    b->wide = malloc(n * sizeof *b->wide);
+    /* two cache lines a 4-wide node, aligned so that a node never spans a third */
+    b->wide = aligned_alloc(64, n * sizeof *b->wide);
+    b->wide_node = malloc(n * sizeof *b->wide_node);
+    b->wleaf = aligned_alloc(32, n * sizeof *b->wleaf);
     if (!b->morton || !b->order || !b->child || !b->parent || !b->lo || !b->hi || !b->slo ||
-        !b->shi || !b->counter || !b->scratch || !b->wide) {
+        !b->shi || !b->counter || !b->scratch || !b->wide || !b->wide_node || !b->wleaf) {
         sim_bvh_free(b);
         return SIM_COLLIDE_ENOMEM;
     }
@@ -56,6 +59,8 @@ void sim_bvh_free(sim_bvh *b)
     free(b->counter);
     free(b->scratch);
     free(b->wide);
+    free(b->wide_node);
+    free(b->wleaf);
     memset(b, 0, sizeof *b);
 }
 
@@ -179,57 +184,79 @@ static int leaf_of(const sim_bvh *b, int node)
 /* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i holds i's
    children, each internal one replaced by its own two children. Every binary node is a slot or
    expanded, so every leaf is reached once. Nodes are numbered in creation order; a node's
-   children come after it. */
+   children come after it. A node with leaf slots gets a block of their triangles (wleaf). */
 static void build_wide(sim_bvh *b)
 {
     b->nwide = 0;
+    b->nwleaf = 0;
     if (b->n < 2)
         return;
-    /* wide[w].node[0] holds the binary node w stands for until its slots are filled */
-    b->wide[b->nwide++].node[0] = 0;
+    /* wide_node[w][0] holds the binary node w stands for until its slots are filled */
+    b->wide_node[b->nwide++][0] = 0;
     for (int w = 0; w < b->nwide; w++) {
         sim_bvh_node4 *q = &b->wide[w];
-        int bin = q->node[0], count = 0;
+        int32_t *slot = b->wide_node[w];
+        int bin = slot[0], count = 0;
         for (int j = 0; j < 2; j++) {
             int ch = b->child[bin][j];
             if (leaf_of(b, ch) >= 0) {
-                q->node[count++] = ch;
+                slot[count++] = ch;
             } else {
-                q->node[count++] = b->child[ch][0];
-                q->node[count++] = b->child[ch][1];
+                slot[count++] = b->child[ch][0];
+                slot[count++] = b->child[ch][1];
             }
         }
+        memset(q, 0, sizeof *q);
         q->count = count;
+        q->leaves = -1;
         for (int k = 0; k < 4; k++) {
             if (k >= count) {
-                q->node[k] = -1;
+                slot[k] = -1;
                 q->next[k] = -1;
                 continue;
             }
-            int leaf = leaf_of(b, q->node[k]);
+            int leaf = leaf_of(b, slot[k]);
             if (leaf >= 0) {
                 q->next[k] = -1 - leaf;
+                q->leaf_mask |= 1 << k;
             } else {
                 q->next[k] = b->nwide;
-                b->wide[b->nwide++].node[0] = q->node[k];
+                b->wide_node[b->nwide++][0] = slot[k];
             }
+        }
+        if (q->leaf_mask) {
+            sim_bvh_leaf4 *l = &b->wleaf[b->nwleaf];
+            memset(l, 0, sizeof *l);
+            for (int k = 0; k < 4; k++)
+                l->tri[k] = q->leaf_mask >> k & 1 ? b->order[-1 - q->next[k]] : -1;
+            q->leaves = b->nwleaf++;
         }
     }
 }
 
-/* The refit's boxes into the 4-wide nodes; empty slots far away (never within any radius: the
-   search also stops at count). */
-static void refit_wide(sim_bvh *b)
+/* The refit's boxes into the 4-wide nodes (empty slots far away: never within any radius, and
+   the search also stops at count), and the vertices of frame k into the leaf blocks. */
+static void refit_wide(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4])
 {
 #pragma omp parallel for schedule(static)
     for (int w = 0; w < b->nwide; w++) {
         sim_bvh_node4 *q = &b->wide[w];
         for (int k = 0; k < 4; k++)
             for (int a = 0; a < 3; a++) {
-                int bn = q->node[k];
+                int bn = b->wide_node[w][k];
                 q->lo[a][k] = bn >= 0 ? b->lo[bn][a] : FLT_MAX;
                 q->hi[a][k] = bn >= 0 ? b->hi[bn][a] : FLT_MAX;
             }
+        if (q->leaves < 0)
+            continue;
+        sim_bvh_leaf4 *l = &b->wleaf[q->leaves];
+        for (int k = 0; k < 4; k++) {
+            if (l->tri[k] < 0)
+                continue;
+            for (int j = 0; j < 3; j++)
+                for (int a = 0; a < 3; a++)
+                    l->v[j][a][k] = v[tris[l->tri[k]][j]][a];
+        }
     }
 }
 
@@ -333,7 +360,7 @@ void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
             merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
         }
     }
-    refit_wide(b);
+    refit_wide(b, v, tris);
 }
 
 static float box_dist2(const float lo[4], const float hi[4], const float p[3])
@@ -351,21 +378,138 @@ static float box_dist2(const float lo[4], const float hi[4], const float p[3])
 typedef float f4 __attribute__((vector_size(16)));
 typedef int32_t i4 __attribute__((vector_size(16)));
 
+static inline f4 splat4(float x)
+{
+    return (f4){x, x, x, x};
+}
+
+static inline f4 load4(const float *p)
+{
+    f4 r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+/* m ? a : b, lane by lane (m all ones or all zeros). */
+static inline f4 select4(i4 m, f4 a, f4 b)
+{
+    return (f4)(((i4)a & m) | ((i4)b & ~m));
+}
+
 /* box_dist2 of a 4-wide node's four slots at once, without branches: at most one of below, above
    is positive (lo <= hi), and a mask keeps it (0 otherwise), so each lane is box_dist2's gap. */
-static void wide_box_dist2(const sim_bvh_node4 *w, const float p[3], float out[4])
+static inline f4 wide_box_dist2(const sim_bvh_node4 *w, const float p[3])
 {
-    f4 d2 = {0.0f, 0.0f, 0.0f, 0.0f}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
+    f4 d2 = splat4(0.0f), zero = splat4(0.0f);
     for (int a = 0; a < 3; a++) {
-        f4 lo, hi, pa = {p[a], p[a], p[a], p[a]};
-        memcpy(&lo, w->lo[a], sizeof lo);
-        memcpy(&hi, w->hi[a], sizeof hi);
-        f4 below = lo - pa, above = pa - hi;
+        f4 pa = splat4(p[a]);
+        f4 below = load4(w->lo[a]) - pa, above = pa - load4(w->hi[a]);
         i4 mb = below > zero, ma = above > zero;
         f4 e = (f4)((i4)below & mb) + (f4)((i4)above & ma);
         d2 += e * e;
     }
-    memcpy(out, &d2, sizeof d2);
+    return d2;
+}
+
+static inline f4 dot4(const f4 a[3], const f4 b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* sim_closest_on_triangle in four lanes (Ericson 5.1.5): the same dot products, the same tests
+   as masks, every region's barycentrics computed and the first region the scalar code would
+   return selected (applied last, so it wins). The lanes of an unselected region may divide by
+   zero; their values are discarded. */
+static inline void closest4(const float p[3], const float tri[3][3][4], f4 q[3], f4 bary[3], f4 *d2,
+                            i4 *region)
+{
+    f4 a[3], b[3], c[3], ab[3], ac[3], ap[3], bp[3], cp[3];
+    for (int k = 0; k < 3; k++) {
+        f4 pk = splat4(p[k]);
+        a[k] = load4(tri[0][k]);
+        b[k] = load4(tri[1][k]);
+        c[k] = load4(tri[2][k]);
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = pk - a[k];
+        bp[k] = pk - b[k];
+        cp[k] = pk - c[k];
+    }
+    f4 zero = splat4(0.0f), one = splat4(1.0f);
+    f4 d1 = dot4(ab, ap), d2_ = dot4(ac, ap);
+    f4 d3 = dot4(ab, bp), d4 = dot4(ac, bp);
+    f4 vc = d1 * d4 - d3 * d2_;
+    f4 d5 = dot4(ab, cp), d6 = dot4(ac, cp);
+    f4 vb = d5 * d2_ - d1 * d6;
+    f4 va = d3 * d6 - d5 * d4;
+    f4 e43 = d4 - d3, e56 = d5 - d6;
+    /* face */
+    f4 denom = one / (va + vb + vc);
+    f4 v = vb * denom, w = vc * denom;
+    f4 u = one - v - w;
+    i4 reg = (i4){SIM_REGION_FACE, SIM_REGION_FACE, SIM_REGION_FACE, SIM_REGION_FACE};
+    /* E12 */
+    i4 m = (va <= zero) & (e43 >= zero) & (e56 >= zero);
+    f4 t = e43 / (e43 + e56);
+    u = select4(m, zero, u);
+    v = select4(m, one - t, v);
+    w = select4(m, t, w);
+    reg = (m & SIM_REGION_E12) | (~m & reg);
+    /* E20 */
+    m = (vb <= zero) & (d2_ >= zero) & (d6 <= zero);
+    t = d2_ / (d2_ - d6);
+    u = select4(m, one - t, u);
+    v = select4(m, zero, v);
+    w = select4(m, t, w);
+    reg = (m & SIM_REGION_E20) | (~m & reg);
+    /* V2 */
+    m = (d6 >= zero) & (d5 <= d6);
+    u = select4(m, zero, u);
+    v = select4(m, zero, v);
+    w = select4(m, one, w);
+    reg = (m & SIM_REGION_V2) | (~m & reg);
+    /* E01 */
+    m = (vc <= zero) & (d1 >= zero) & (d3 <= zero);
+    t = d1 / (d1 - d3);
+    u = select4(m, one - t, u);
+    v = select4(m, t, v);
+    w = select4(m, zero, w);
+    reg = (m & SIM_REGION_E01) | (~m & reg);
+    /* V1 */
+    m = (d3 >= zero) & (d4 <= d3);
+    u = select4(m, zero, u);
+    v = select4(m, one, v);
+    w = select4(m, zero, w);
+    reg = (m & SIM_REGION_V1) | (~m & reg);
+    /* V0 */
+    m = (d1 <= zero) & (d2_ <= zero);
+    u = select4(m, one, u);
+    v = select4(m, zero, v);
+    w = select4(m, zero, w);
+    reg = (m & SIM_REGION_V0) | (~m & reg);
+    bary[0] = u;
+    bary[1] = v;
+    bary[2] = w;
+    f4 dist2 = zero;
+    for (int k = 0; k < 3; k++) {
+        q[k] = u * a[k] + v * b[k] + w * c[k];
+        f4 dk = splat4(p[k]) - q[k];
+        dist2 = k == 0 ? dk * dk : dist2 + dk * dk;
+    }
+    *d2 = dist2;
+    *region = reg;
+}
+
+void sim_closest_on_triangle4(const float p[3], const float tri[3][3][4], float q[3][4],
+                              float bary[3][4], float d2[4], int32_t region[4])
+{
+    f4 vq[3], vb[3], vd2;
+    i4 reg;
+    closest4(p, tri, vq, vb, &vd2, &reg);
+    memcpy(q, vq, sizeof vq);
+    memcpy(bary, vb, sizeof vb);
+    memcpy(d2, &vd2, sizeof vd2);
+    memcpy(region, &reg, sizeof reg);
 }
 
 /* Sorted leaf i against the best so far: nearer, or as near with a lower triangle index. */
@@ -383,6 +527,37 @@ static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*
         *best_d2 = d2;
         memcpy(q, cq, sizeof cq);
         memcpy(bary, cb, sizeof cb);
+    }
+}
+
+/* The leaf slots of 4-wide node w whose boxes are within the best so far, in slot order, each
+   against the best as nearest_leaf does: all four closest points at once, then taken one by one,
+   a slot's box tested against the best as the slots before it left it (as a loop of nearest_leaf
+   calls would), so the answer and its ties are the scalar search's bit for bit. */
+static void nearest_leaves4(const sim_bvh *b, const sim_bvh_node4 *w, const float box_d2[4],
+                            const float p[3], int *best, float *best_d2, float q[3], float bary[3])
+{
+    const sim_bvh_leaf4 *l = &b->wleaf[w->leaves];
+    f4 vq[3], vb[3], vd2;
+    i4 reg;
+    closest4(p, l->v, vq, vb, &vd2, &reg);
+    float cq[3][4], cb[3][4], cd2[4];
+    memcpy(cq, vq, sizeof cq);
+    memcpy(cb, vb, sizeof cb);
+    memcpy(cd2, &vd2, sizeof cd2);
+    for (int k = 0; k < w->count; k++) {
+        if (!(w->leaf_mask >> k & 1) || !(box_d2[k] <= *best_d2))
+            continue;
+        int t = l->tri[k];
+        float d2 = cd2[k];
+        if (d2 < *best_d2 || (d2 == *best_d2 && (*best < 0 || t < *best))) {
+            *best = t;
+            *best_d2 = d2;
+            for (int a = 0; a < 3; a++) {
+                q[a] = cq[a][k];
+                bary[a] = cb[a][k];
+            }
+        }
     }
 }
 
@@ -429,18 +604,20 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
                 continue;
             const sim_bvh_node4 *w = &b->wide[stack[top]];
             float d2[4];
-            wide_box_dist2(w, p, d2);
+            f4 vd2 = wide_box_dist2(w, p);
+            memcpy(d2, &vd2, sizeof d2);
             /* leaves now (best_d2 shrinks early); internal slots pushed farthest first, so the
                nearest is popped first */
-            int in[4], nin = 0;
-            for (int k = 0; k < w->count; k++) {
-                if (!(d2[k] <= best_d2))
-                    continue;
-                if (w->next[k] < 0)
-                    nearest_leaf(b, v, tris, p, -1 - w->next[k], &best, &best_d2, q, bary);
-                else
-                    in[nin++] = k;
-            }
+            int in[4], nin = 0, leaves = 0;
+            for (int k = 0; k < w->count; k++)
+                if (d2[k] <= best_d2) {
+                    if (w->leaf_mask >> k & 1)
+                        leaves = 1;
+                    else
+                        in[nin++] = k;
+                }
+            if (leaves)
+                nearest_leaves4(b, w, d2, p, &best, &best_d2, q, bary);
             if (top + nin > WIDE_STACK)
                 continue;                 /* cannot happen for trees built here (see WIDE_STACK) */
             for (int i = 1; i < nin; i++) /* by distance, descending */

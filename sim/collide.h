@@ -128,6 +128,13 @@ enum {
 int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3], const float c[3],
                             float q[3], float bary[3]);
 
+/* sim_closest_on_triangle for p against four triangles at once, without branches (every region's
+   candidate computed, the scalar code's order of tests as masks): tri[vertex][axis][lane]. Each
+   lane is bit for bit what the scalar function gives for that triangle: q[axis][lane],
+   bary[k][lane], the region, and d2 = |p - q|^2 summed as the nearest search sums it. */
+void sim_closest_on_triangle4(const float p[3], const float tri[3][3][4], float q[3][4],
+                              float bary[3][4], float d2[4], int32_t region[4]);
+
 /* ---- The LBVH (Karras 2012) ------------------------------------------------------------------ */
 
 /* Nodes 0..n-2 are internal (0 is the root), n-1..2n-2 the leaves in Morton order; a child index
@@ -149,15 +156,26 @@ struct sim_bvh {
        where those are internal, their children, so a descent pops half as many nodes and tests
        four boxes at once. Shape built with the topology, boxes copied from lo/hi by the refit. */
     struct sim_bvh_node4 *wide;
-    int nwide;
+    int32_t (*wide_node)[4]; /* per 4-wide node: each slot's binary node (-1: empty), refit */
+    /* The triangles of the 4-wide nodes' leaf slots, one block per node that has any, laid out
+       for sim_closest_on_triangle4 (vertices copied by the refit). */
+    struct sim_bvh_leaf4 *wleaf;
+    int nwide, nwleaf;
 };
 
 typedef struct sim_bvh_node4 {
     float lo[3][4], hi[3][4]; /* [axis][slot]: static boxes of the slots' binary nodes */
-    int32_t node[4];          /* each slot's binary node */
     int32_t next[4];          /* >= 0: the slot's 4-wide node; < 0: sorted leaf -1 - next */
     int32_t count;            /* slots in use, 2..4 */
+    int32_t leaves;           /* its block in wleaf, -1 when no slot is a leaf */
+    int32_t leaf_mask;        /* bit k: slot k is a leaf */
+    int32_t pad;              /* to 128 bytes: two cache lines */
 } sim_bvh_node4;
+
+typedef struct sim_bvh_leaf4 {
+    float v[3][3][4]; /* [vertex][axis][slot]; slots that are not leaves hold zeros */
+    int32_t tri[4];   /* triangle of each slot, -1 when not a leaf */
+} sim_bvh_leaf4;
 
 int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
 void sim_bvh_free(sim_bvh *b);
