@@ -6,6 +6,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "collide.h"
 
@@ -530,23 +533,39 @@ static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*
     }
 }
 
-/* The leaf slots of 4-wide node w whose boxes are within the best so far, in slot order, each
-   against the best as nearest_leaf does: all four closest points at once, then taken one by one,
-   a slot's box tested against the best as the slots before it left it (as a loop of nearest_leaf
-   calls would), so the answer and its ties are the scalar search's bit for bit. */
-static void nearest_leaves4(const sim_bvh *b, const sim_bvh_node4 *w, const float box_d2[4],
-                            const float p[3], int *best, float *best_d2, float q[3], float bary[3])
+/* Bit k set where lane k of m is set (movmskps where SSE is there). */
+static inline int mask_bits4(i4 m)
+{
+#if defined(__SSE__)
+    return _mm_movemask_ps((__m128)m);
+#else
+    return (m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8);
+#endif
+}
+
+/* The leaf slots `within` of 4-wide node w (their boxes within the best so far), in slot order,
+   each against the best as nearest_leaf does: all four closest points at once, then taken one by
+   one, a slot's box tested against the best as the slots before it left it (as a loop of
+   nearest_leaf calls would), so the answer and its ties are the scalar search's bit for bit. A
+   slot whose triangle is farther than the best on entry changes nothing (the best only shrinks),
+   so only the others are taken. */
+static void nearest_leaves4(const sim_bvh *b, const sim_bvh_node4 *w, int within,
+                            const float box_d2[4], const float p[3], int *best, float *best_d2,
+                            float q[3], float bary[3])
 {
     const sim_bvh_leaf4 *l = &b->wleaf[w->leaves];
     f4 vq[3], vb[3], vd2;
     i4 reg;
     closest4(p, l->v, vq, vb, &vd2, &reg);
+    int take = within & mask_bits4(vd2 <= splat4(*best_d2));
+    if (!take)
+        return;
     float cq[3][4], cb[3][4], cd2[4];
     memcpy(cq, vq, sizeof cq);
     memcpy(cb, vb, sizeof cb);
     memcpy(cd2, &vd2, sizeof cd2);
-    for (int k = 0; k < w->count; k++) {
-        if (!(w->leaf_mask >> k & 1) || !(box_d2[k] <= *best_d2))
+    for (int k = 0; k < 4; k++) {
+        if (!(take >> k & 1) || !(box_d2[k] <= *best_d2))
             continue;
         int t = l->tri[k];
         float d2 = cd2[k];
@@ -565,6 +584,59 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
                     const float p[3], float radius_m, float q[3], float bary[3], float *dist_m)
 {
     return sim_bvh_nearest_from(b, v, tris, p, radius_m, -1, q, bary, dist_m);
+}
+
+/* The 4-wide descent. Nodes are pushed with their box distance, so a pop compares without
+   recomputing, and a child already farther than the best is never pushed. At each node the leaf
+   slots first (best_d2 shrinks early), then the internal slots still within the best, farthest
+   pushed first (ties: the lower slot first), so the nearest is popped next: it is not pushed but
+   taken at once (its pop would find it within the best, which has not changed since). */
+static void nearest_wide(const sim_bvh *b, const float p[3], int *best, float *best_d2, float q[3],
+                         float bary[3])
+{
+    int stack[WIDE_STACK], top = 0;
+    float sd[WIDE_STACK];
+    int node = 0;
+    float node_d2 = box_dist2(b->lo[0], b->hi[0], p);
+    for (;;) {
+        if (!(node_d2 > *best_d2)) {
+            const sim_bvh_node4 *w = &b->wide[node];
+            f4 vd2 = wide_box_dist2(w, p);
+            float d2[4];
+            memcpy(d2, &vd2, sizeof d2);
+            int slots = (1 << w->count) - 1;
+            int within = mask_bits4(vd2 <= splat4(*best_d2)) & slots;
+            if (within & w->leaf_mask) {
+                nearest_leaves4(b, w, within & w->leaf_mask, d2, p, best, best_d2, q, bary);
+                within &= mask_bits4(vd2 <= splat4(*best_d2));
+            }
+            within &= ~w->leaf_mask;
+            int in[4], nin = 0;
+            for (int k = 0; k < 4; k++)
+                if (within >> k & 1)
+                    in[nin++] = k;
+            if (nin > 0 && top + nin <= WIDE_STACK) { /* always, for trees built here */
+                for (int i = 1; i < nin; i++)         /* by distance, descending */
+                    for (int j = i; j > 0 && d2[in[j]] > d2[in[j - 1]]; j--) {
+                        int t = in[j];
+                        in[j] = in[j - 1];
+                        in[j - 1] = t;
+                    }
+                for (int i = 0; i + 1 < nin; i++) {
+                    stack[top] = w->next[in[i]];
+                    sd[top++] = d2[in[i]];
+                }
+                node = w->next[in[nin - 1]];
+                node_d2 = d2[in[nin - 1]];
+                continue;
+            }
+        }
+        if (top == 0)
+            break;
+        top--;
+        node = stack[top];
+        node_d2 = sd[top];
+    }
 }
 
 int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
@@ -589,51 +661,10 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
             memcpy(bary, cb, sizeof cb);
         }
     }
-    if (b->n == 1) {
+    if (b->n == 1)
         nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary);
-    } else {
-        /* Nodes are pushed with their box distance, so a pop compares without recomputing, and
-           a child already farther than the best is never pushed. */
-        int stack[WIDE_STACK], top = 0;
-        float sd[WIDE_STACK];
-        stack[top] = 0;
-        sd[top++] = box_dist2(b->lo[0], b->hi[0], p);
-        while (top > 0) {
-            top--;
-            if (sd[top] > best_d2)
-                continue;
-            const sim_bvh_node4 *w = &b->wide[stack[top]];
-            float d2[4];
-            f4 vd2 = wide_box_dist2(w, p);
-            memcpy(d2, &vd2, sizeof d2);
-            /* leaves now (best_d2 shrinks early); internal slots pushed farthest first, so the
-               nearest is popped first */
-            int in[4], nin = 0, leaves = 0;
-            for (int k = 0; k < w->count; k++)
-                if (d2[k] <= best_d2) {
-                    if (w->leaf_mask >> k & 1)
-                        leaves = 1;
-                    else
-                        in[nin++] = k;
-                }
-            if (leaves)
-                nearest_leaves4(b, w, d2, p, &best, &best_d2, q, bary);
-            if (top + nin > WIDE_STACK)
-                continue;                 /* cannot happen for trees built here (see WIDE_STACK) */
-            for (int i = 1; i < nin; i++) /* by distance, descending */
-                for (int j = i; j > 0 && d2[in[j]] > d2[in[j - 1]]; j--) {
-                    int t = in[j];
-                    in[j] = in[j - 1];
-                    in[j - 1] = t;
-                }
-            for (int i = 0; i < nin; i++) {
-                if (!(d2[in[i]] <= best_d2))
-                    continue;
-                stack[top] = w->next[in[i]];
-                sd[top++] = d2[in[i]];
-            }
-        }
-    }
+    else
+        nearest_wide(b, p, &best, &best_d2, q, bary);
     if (best >= 0 && dist_m)
         *dist_m = sqrtf(best_d2);
     return best;
