@@ -611,10 +611,15 @@ static void nearest_wide(const sim_bvh *b, const float p[3], int *best, float *b
                 within &= mask_bits4(vd2 <= splat4(*best_d2));
             }
             within &= ~w->leaf_mask;
+            if (within && !(within & (within - 1))) { /* one: taken at once */
+                int k = __builtin_ctz((unsigned)within);
+                node = w->next[k];
+                node_d2 = d2[k];
+                continue;
+            }
             int in[4], nin = 0;
-            for (int k = 0; k < 4; k++)
-                if (within >> k & 1)
-                    in[nin++] = k;
+            for (; within; within &= within - 1)
+                in[nin++] = __builtin_ctz((unsigned)within);
             if (nin > 0 && top + nin <= WIDE_STACK) { /* always, for trees built here */
                 for (int i = 1; i < nin; i++)         /* by distance, descending */
                     for (int j = i; j > 0 && d2[in[j]] > d2[in[j - 1]]; j--) {
