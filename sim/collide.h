@@ -17,6 +17,7 @@
 #ifndef TRYON_SIM_COLLIDE_H
 #define TRYON_SIM_COLLIDE_H
 
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -235,6 +236,12 @@ struct sim_collider {
     float (*quiet)[4];
     int32_t (*quiet_key)[2];
     int32_t body_epoch; /* incremented by every sim_collider_set_body */
+    /* Vertex pseudo-normals of this body frame, computed on first use (sim_collider_pseudo_normal):
+       vn[i] is valid when vn_stamp[i] == body_epoch. The first thread to claim a vertex (stamp
+       set to SIM_VN_BUSY by compare-and-swap) writes it and then publishes the epoch; a thread
+       that finds it busy computes its own copy, the same bits. */
+    float (*vn)[4];
+    atomic_int *vn_stamp;
 };
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a
