@@ -17,6 +17,10 @@
 #define BVH_STACK 96
 /* The 4-wide search pushes at most three more nodes per level than it pops. */
 #define WIDE_STACK (3 * BVH_STACK)
+/* The stamp of a 4-wide node being filled (epochs are never negative). */
+#define WIDE_BUSY (-2)
+/* The refit's subtrees: enough that two or three threads share them evenly (schedule dynamic). */
+#define REFIT_TASKS 32
 
 int sim_bvh_init(sim_bvh *b, int max_triangles)
 {
@@ -33,14 +37,16 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
     b->hi = malloc(nodes * sizeof *b->hi);
     b->slo = malloc(nodes * sizeof *b->slo);
     b->shi = malloc(nodes * sizeof *b->shi);
-    b->counter = malloc(n * sizeof *b->counter);
+    b->refit_list = malloc(nodes * sizeof *b->refit_list);
+    b->refit_task = malloc((REFIT_TASKS + 2) * sizeof *b->refit_task);
     b->scratch = malloc(4 * n * sizeof *b->scratch);
     /* two cache lines a 4-wide node, aligned so that a node never spans a third */
     b->wide = aligned_alloc(64, n * sizeof *b->wide);
     b->wide_node = malloc(n * sizeof *b->wide_node);
     b->wleaf = aligned_alloc(32, n * sizeof *b->wleaf);
     if (!b->morton || !b->order || !b->child || !b->parent || !b->lo || !b->hi || !b->slo ||
-        !b->shi || !b->counter || !b->scratch || !b->wide || !b->wide_node || !b->wleaf) {
+        !b->shi || !b->refit_list || !b->refit_task || !b->scratch || !b->wide || !b->wide_node ||
+        !b->wleaf) {
         sim_bvh_free(b);
         return SIM_COLLIDE_ENOMEM;
     }
@@ -59,7 +65,8 @@ void sim_bvh_free(sim_bvh *b)
     free(b->hi);
     free(b->slo);
     free(b->shi);
-    free(b->counter);
+    free(b->refit_list);
+    free(b->refit_task);
     free(b->scratch);
     free(b->wide);
     free(b->wide_node);
@@ -210,6 +217,7 @@ static void build_wide(sim_bvh *b)
             }
         }
         memset(q, 0, sizeof *q);
+        atomic_init(&q->stamp, -1);
         q->count = count;
         q->leaves = -1;
         for (int k = 0; k < 4; k++) {
@@ -237,30 +245,64 @@ static void build_wide(sim_bvh *b)
     }
 }
 
-/* The refit's boxes into the 4-wide nodes (empty slots far away: never within any radius, and
-   the search also stops at count), and the vertices of frame k into the leaf blocks. */
-static void refit_wide(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4])
+/* Subtree of node r into out, children before their parent (a pre-order reversed); returns the
+   count. The stack holds at most one node a level plus one. */
+static int subtree_children_first(const sim_bvh *b, int r, int32_t *out)
 {
-#pragma omp parallel for schedule(static)
-    for (int w = 0; w < b->nwide; w++) {
-        sim_bvh_node4 *q = &b->wide[w];
-        for (int k = 0; k < 4; k++)
-            for (int a = 0; a < 3; a++) {
-                int bn = b->wide_node[w][k];
-                q->lo[a][k] = bn >= 0 ? b->lo[bn][a] : FLT_MAX;
-                q->hi[a][k] = bn >= 0 ? b->hi[bn][a] : FLT_MAX;
-            }
-        if (q->leaves < 0)
-            continue;
-        sim_bvh_leaf4 *l = &b->wleaf[q->leaves];
-        for (int k = 0; k < 4; k++) {
-            if (l->tri[k] < 0)
-                continue;
-            for (int j = 0; j < 3; j++)
-                for (int a = 0; a < 3; a++)
-                    l->v[j][a][k] = v[tris[l->tri[k]][j]][a];
+    int stack[BVH_STACK + 2], top = 0, m = 0;
+    stack[top++] = r;
+    while (top > 0) {
+        int node = stack[--top];
+        out[m++] = node;
+        if (leaf_of(b, node) < 0 && top + 2 <= BVH_STACK + 2) {
+            stack[top++] = b->child[node][0];
+            stack[top++] = b->child[node][1];
         }
     }
+    for (int i = 0, j = m - 1; i < j; i++, j--) {
+        int32_t t = out[i];
+        out[i] = out[j];
+        out[j] = t;
+    }
+    return m;
+}
+
+/* The refit's schedule, per topology: the top of the tree split until REFIT_TASKS subtrees (the
+   largest split first), each subtree a task listed children first, then the split nodes, deepest
+   first. Every node's box is the min / max of its children's, whatever the order, so the boxes
+   are those of the atomic bottom-up pass (Karras 2012 section 4, the kernel's) bit for bit. */
+static void build_refit_order(sim_bvh *b)
+{
+    int32_t *size = (int32_t *)b->scratch; /* leaves under each node; the sort is done with it */
+    int32_t *all = b->refit_list;
+    int m = subtree_children_first(b, 0, all);
+    for (int i = 0; i < m; i++) {
+        int node = all[i];
+        size[node] = leaf_of(b, node) >= 0 ? 1 : size[b->child[node][0]] + size[b->child[node][1]];
+    }
+    int front[REFIT_TASKS + 1], nfront = 1, top[REFIT_TASKS], ntop = 0;
+    front[0] = 0;
+    while (nfront < REFIT_TASKS) {
+        int pick = -1;
+        for (int i = 0; i < nfront; i++)
+            if (leaf_of(b, front[i]) < 0 && (pick < 0 || size[front[i]] > size[front[pick]]))
+                pick = i;
+        if (pick < 0)
+            break;
+        int node = front[pick];
+        top[ntop++] = node;
+        front[pick] = b->child[node][0];
+        front[nfront++] = b->child[node][1];
+    }
+    int at = 0;
+    for (int i = 0; i < nfront; i++) {
+        b->refit_task[i] = at;
+        at += subtree_children_first(b, front[i], b->refit_list + at);
+    }
+    b->refit_task[nfront] = at;
+    for (int i = ntop - 1; i >= 0; i--)
+        b->refit_list[at++] = top[i];
+    b->nrefit_task = nfront;
 }
 
 void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
@@ -296,6 +338,8 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
             build_node(b, i);
     }
     build_wide(b);
+    if (nt > 1)
+        build_refit_order(b);
     sim_bvh_refit(b, v_prev, v, tris, pad_m);
 }
 
@@ -337,33 +381,36 @@ static void merge_box(float (*lo)[4], float (*hi)[4], int node, int l, int r)
     }
 }
 
+static void refit_node(sim_bvh *b, int node, const float (*v_prev)[4], const float (*v)[4],
+                       const int32_t (*tris)[4], float pad_m)
+{
+    if (node >= b->n - 1) {
+        leaf_box(b, node - (b->n - 1), v_prev, v, tris, pad_m);
+        return;
+    }
+    merge_box(b->lo, b->hi, node, b->child[node][0], b->child[node][1]);
+    merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
+}
+
 void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
                    const int32_t (*tris)[4], float pad_m)
 {
     int n = b->n;
     b->pad = pad_m;
+    /* the 4-wide nodes are filled from the new boxes when a search first reaches them */
+    b->epoch = (b->epoch + 1) & 0x3fffffff;
     if (n <= 1) {
         if (n == 1)
             leaf_box(b, 0, v_prev, v, tris, pad_m);
         return;
     }
-    memset(b->counter, 0, (size_t)(n - 1) * sizeof *b->counter);
-#pragma omp parallel for schedule(static)
-    for (int leaf = 0; leaf < n; leaf++) {
-        leaf_box(b, leaf, v_prev, v, tris, pad_m);
-        /* Karras 2012 section 4: the first child to arrive stops, the second (whose sibling's
-           box is then complete: the seq_cst atomic orders the writes) builds the parent. */
-        for (int node = b->parent[n - 1 + leaf]; node >= 0; node = b->parent[node]) {
-            int seen;
-#pragma omp atomic capture seq_cst
-            seen = b->counter[node]++;
-            if (seen == 0)
-                break;
-            merge_box(b->lo, b->hi, node, b->child[node][0], b->child[node][1]);
-            merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
-        }
-    }
-    refit_wide(b, v, tris);
+    /* the subtrees in parallel, each children first; then the nodes above them */
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int task = 0; task < b->nrefit_task; task++)
+        for (int i = b->refit_task[task]; i < b->refit_task[task + 1]; i++)
+            refit_node(b, b->refit_list[i], v_prev, v, tris, pad_m);
+    for (int i = b->refit_task[b->nrefit_task]; i < 2 * n - 1; i++)
+        refit_node(b, b->refit_list[i], v_prev, v, tris, pad_m);
 }
 
 static float box_dist2(const float lo[4], const float hi[4], const float p[3])
@@ -533,6 +580,60 @@ static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*
     }
 }
 
+/* 4-wide node w as this refit has it: the boxes of its slots' binary nodes (empty slots far away:
+   never within any radius, and the search also stops at count) and, where it has leaf slots,
+   their triangles' vertices (lanes that are not leaves keep the zeros of the build). */
+static void fill_wide(const sim_bvh *b, int w, const float (*v)[4], const int32_t (*tris)[4],
+                      sim_bvh_node4 *q, sim_bvh_leaf4 *l)
+{
+    for (int k = 0; k < 4; k++) {
+        int bn = b->wide_node[w][k];
+        for (int a = 0; a < 3; a++) {
+            q->lo[a][k] = bn >= 0 ? b->lo[bn][a] : FLT_MAX;
+            q->hi[a][k] = bn >= 0 ? b->hi[bn][a] : FLT_MAX;
+        }
+        if (l && l->tri[k] >= 0)
+            for (int j = 0; j < 3; j++)
+                for (int a = 0; a < 3; a++)
+                    l->v[j][a][k] = v[tris[l->tri[k]][j]][a];
+    }
+}
+
+/* 4-wide node w ready for a search of this refit: filled by the first search to reach it (the
+   refit itself then writes only the binary boxes, and the nodes no cloth point comes near are
+   never copied). The first thread to claim it (stamp set to WIDE_BUSY by compare-and-swap)
+   fills it and publishes the epoch; a thread finding it claimed fills its own copy in *mine
+   (the same bits). *leaf: its leaf block, or NULL. */
+static const sim_bvh_node4 *wide_ready(const sim_bvh *b, int w, const float (*v)[4],
+                                       const int32_t (*tris)[4], sim_bvh_node4 *mine,
+                                       sim_bvh_leaf4 *mine_leaf, const sim_bvh_leaf4 **leaf)
+{
+    sim_bvh_node4 *q = &b->wide[w];
+    sim_bvh_leaf4 *l = q->leaves >= 0 ? &b->wleaf[q->leaves] : NULL;
+    *leaf = l;
+    int seen = atomic_load_explicit(&q->stamp, memory_order_acquire);
+    if (seen == b->epoch)
+        return q;
+    if (seen != WIDE_BUSY &&
+        atomic_compare_exchange_strong_explicit(&q->stamp, &seen, WIDE_BUSY, memory_order_acquire,
+                                                memory_order_relaxed)) {
+        fill_wide(b, w, v, tris, q, l);
+        atomic_store_explicit(&q->stamp, b->epoch, memory_order_release);
+        return q;
+    }
+    memcpy(mine->next, q->next, sizeof q->next);
+    mine->count = q->count;
+    mine->leaves = q->leaves;
+    mine->leaf_mask = q->leaf_mask;
+    if (l) {
+        memcpy(mine_leaf->tri, l->tri, sizeof l->tri);
+        memset(mine_leaf->v, 0, sizeof mine_leaf->v);
+        *leaf = mine_leaf;
+    }
+    fill_wide(b, w, v, tris, mine, l ? mine_leaf : NULL);
+    return mine;
+}
+
 /* Bit k set where lane k of m is set (movmskps where SSE is there). */
 static inline int mask_bits4(i4 m)
 {
@@ -549,11 +650,9 @@ static inline int mask_bits4(i4 m)
    nearest_leaf calls would), so the answer and its ties are the scalar search's bit for bit. A
    slot whose triangle is farther than the best on entry changes nothing (the best only shrinks),
    so only the others are taken. */
-static void nearest_leaves4(const sim_bvh *b, const sim_bvh_node4 *w, int within,
-                            const float box_d2[4], const float p[3], int *best, float *best_d2,
-                            float q[3], float bary[3])
+static void nearest_leaves4(const sim_bvh_leaf4 *l, int within, const float box_d2[4],
+                            const float p[3], int *best, float *best_d2, float q[3], float bary[3])
 {
-    const sim_bvh_leaf4 *l = &b->wleaf[w->leaves];
     f4 vq[3], vb[3], vd2;
     i4 reg;
     closest4(p, l->v, vq, vb, &vd2, &reg);
@@ -591,23 +690,26 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
    slots first (best_d2 shrinks early), then the internal slots still within the best, farthest
    pushed first (ties: the lower slot first), so the nearest is popped next: it is not pushed but
    taken at once (its pop would find it within the best, which has not changed since). */
-static void nearest_wide(const sim_bvh *b, const float p[3], int *best, float *best_d2, float q[3],
-                         float bary[3])
+static void nearest_wide(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                         const float p[3], int *best, float *best_d2, float q[3], float bary[3])
 {
+    sim_bvh_node4 mine;
+    sim_bvh_leaf4 mine_leaf;
     int stack[WIDE_STACK], top = 0;
     float sd[WIDE_STACK];
     int node = 0;
     float node_d2 = box_dist2(b->lo[0], b->hi[0], p);
     for (;;) {
         if (!(node_d2 > *best_d2)) {
-            const sim_bvh_node4 *w = &b->wide[node];
+            const sim_bvh_leaf4 *leaf;
+            const sim_bvh_node4 *w = wide_ready(b, node, v, tris, &mine, &mine_leaf, &leaf);
             f4 vd2 = wide_box_dist2(w, p);
             float d2[4];
             memcpy(d2, &vd2, sizeof d2);
             int slots = (1 << w->count) - 1;
             int within = mask_bits4(vd2 <= splat4(*best_d2)) & slots;
             if (within & w->leaf_mask) {
-                nearest_leaves4(b, w, within & w->leaf_mask, d2, p, best, best_d2, q, bary);
+                nearest_leaves4(leaf, within & w->leaf_mask, d2, p, best, best_d2, q, bary);
                 within &= mask_bits4(vd2 <= splat4(*best_d2));
             }
             within &= ~w->leaf_mask;
@@ -669,7 +771,7 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
     if (b->n == 1)
         nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary);
     else
-        nearest_wide(b, p, &best, &best_d2, q, bary);
+        nearest_wide(b, v, tris, p, &best, &best_d2, q, bary);
     if (best >= 0 && dist_m)
         *dist_m = sqrtf(best_d2);
     return best;

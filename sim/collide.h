@@ -151,17 +151,23 @@ struct sim_bvh {
                                    queried, tight for the nearest-triangle search */
     float (*slo)[4], (*shi)[4]; /* swept boxes (k-1 with k, inflated by pad), per node */
     float pad;                  /* the thickness, m */
-    int *counter;               /* per internal node, for the bottom-up refit */
-    uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
+    /* The refit's schedule (per topology): refit_list holds every node, children before their
+       parent, as nrefit_task subtrees (task i: refit_list[refit_task[i] .. refit_task[i + 1]))
+       and then the nodes above them. */
+    int32_t *refit_list, *refit_task;
+    int nrefit_task;
+    uint32_t *scratch; /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
     /* The nearest search's 4-wide copy of the tree: each node holds a binary node's children or,
        where those are internal, their children, so a descent pops half as many nodes and tests
-       four boxes at once. Shape built with the topology, boxes copied from lo/hi by the refit. */
+       four boxes at once. Shape built with the topology; boxes (from lo/hi) and leaf blocks
+       filled by the first search to reach a node after each refit (its stamp says which). */
     struct sim_bvh_node4 *wide;
-    int32_t (*wide_node)[4]; /* per 4-wide node: each slot's binary node (-1: empty), refit */
+    int32_t (*wide_node)[4]; /* per 4-wide node: each slot's binary node (-1: empty) */
     /* The triangles of the 4-wide nodes' leaf slots, one block per node that has any, laid out
-       for sim_closest_on_triangle4 (vertices copied by the refit). */
+       for sim_closest_on_triangle4. */
     struct sim_bvh_leaf4 *wleaf;
     int nwide, nwleaf;
+    int32_t epoch; /* incremented by every refit */
 };
 
 typedef struct sim_bvh_node4 {
@@ -170,7 +176,7 @@ typedef struct sim_bvh_node4 {
     int32_t count;            /* slots in use, 2..4 */
     int32_t leaves;           /* its block in wleaf, -1 when no slot is a leaf */
     int32_t leaf_mask;        /* bit k: slot k is a leaf */
-    int32_t pad;              /* to 128 bytes: two cache lines */
+    atomic_int stamp;         /* the refit (epoch) its boxes and leaf block hold, or WIDE_BUSY */
 } sim_bvh_node4;
 
 typedef struct sim_bvh_leaf4 {

@@ -193,12 +193,13 @@ static int ref_nearest(const sim_bvh *b, const mesh *m, const float p[3], float 
         top--;
         if (sd[top] > best_d2)
             continue;
+        /* the shape from the 4-wide node, the boxes from its slots' binary nodes (the search
+           fills the 4-wide copies when it first reaches them) */
         const sim_bvh_node4 *w = &b->wide[stack[top]];
         float d2[4];
-        for (int k = 0; k < 4; k++) {
-            float lo[4] = {w->lo[0][k], w->lo[1][k], w->lo[2][k], 0.0f};
-            float hi[4] = {w->hi[0][k], w->hi[1][k], w->hi[2][k], 0.0f};
-            d2[k] = ref_box_dist2(lo, hi, p);
+        for (int k = 0; k < w->count; k++) {
+            int bn = b->wide_node[stack[top]][k];
+            d2[k] = ref_box_dist2(b->lo[bn], b->hi[bn], p);
         }
         int in[4], nin = 0;
         for (int k = 0; k < w->count; k++) {
@@ -269,8 +270,23 @@ static void check_search(const mesh *m, uint32_t seed, int queries)
 {
     sim_bvh b;
     assert_int_equal(sim_bvh_init(&b, m->nt), 0);
-    sim_bvh_build(&b, (const float(*)[4])m->v, (const float(*)[4])m->v,
-                  (const int32_t(*)[4])m->tris, m->nt, 0.004f);
+    /* built over other vertices and refitted: the 4-wide nodes must follow the refit */
+    float(*v0)[4] = malloc((size_t)m->nv * sizeof *v0);
+    for (int i = 0; i < m->nv; i++)
+        for (int k = 0; k < 4; k++)
+            v0[i][k] = 0.9f * m->v[i][k];
+    sim_bvh_build(&b, (const float(*)[4])v0, (const float(*)[4])v0, (const int32_t(*)[4])m->tris,
+                  m->nt, 0.004f);
+    float q0[3], b0[3], d0;
+    for (int n = 0; n < 200; n++) { /* fill the 4-wide nodes from the old boxes */
+        float p[3];
+        mesh_point(&seed, m, p);
+        sim_bvh_nearest(&b, (const float(*)[4])v0, (const int32_t(*)[4])m->tris, p, INFINITY, q0,
+                        b0, &d0);
+    }
+    sim_bvh_refit(&b, (const float(*)[4])v0, (const float(*)[4])m->v, (const int32_t(*)[4])m->tris,
+                  0.004f);
+    free(v0);
     const float radii[3] = {INFINITY, 0.034f, 0.002f};
     for (int n = 0; n < queries; n++) {
         float p[3];
