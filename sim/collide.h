@@ -248,7 +248,21 @@ struct sim_collider {
        that finds it busy computes its own copy, the same bits. */
     float (*vn)[4];
     atomic_int *vn_stamp;
+    /* sim_collider_find_contacts called by a team (sim/find_contacts.c): each thread's range in
+       its slot, so that threads done with theirs take chunks of the others'. */
+    struct sim_contact_slot *share;
 };
+
+/* Threads a team may have for the shared contact search (a bigger team searches unshared). */
+#define SIM_SHARE_SLOTS 64
+/* Points a range of the shared search may hold (the slot word's offset has 24 bits). */
+#define SIM_SHARE_MAX_POINTS (1 << 23)
+
+typedef struct sim_contact_slot {
+    _Alignas(64) _Atomic uint64_t word; /* generation | chunks being helped | next offset */
+    _Atomic uintptr_t x;                /* the owner's cloth positions */
+    atomic_int begin, end;              /* the owner's range */
+} sim_contact_slot;
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a
    SIM_REGION_* (not normalised: only its direction is used). */
