@@ -61,6 +61,7 @@ static void search_points(sim_collider *c, const float (*x)[4], int begin, int e
     }
 }
 
+#ifdef _OPENMP
 /* Chunks of another thread's open range, until none is left. A claim is a compare-and-swap on
    the slot's word that also counts the claimer as active; it fails when the owner has closed or
    reopened the range since its fields were read, so a claim always pairs a chunk with the range
@@ -86,7 +87,6 @@ static void help_slot(sim_collider *c, sim_contact_slot *s)
     }
 }
 
-#ifdef _OPENMP
 /* This thread's range through its slot, then help the team's other open ranges, then wait until
    the chunks others took of this one are done. */
 static void search_shared(sim_collider *c, const float (*x)[4], int begin, int end, int me,
