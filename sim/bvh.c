@@ -12,8 +12,8 @@
 /* Depth bound of an LBVH over 30-bit codes extended by a 32-bit index: each level lengthens the
    common prefix by at least one bit. */
 #define BVH_STACK 96
-/* The 4-wide search pushes at most three more nodes per level than it pops. */
-#define WIDE_STACK (3 * BVH_STACK)
+/* The refit's subtrees: enough that two or three threads share them evenly (schedule dynamic). */
+#define REFIT_TASKS 32
 
 int sim_bvh_init(sim_bvh *b, int max_triangles)
 {
@@ -30,11 +30,16 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
     b->hi = malloc(nodes * sizeof *b->hi);
     b->slo = malloc(nodes * sizeof *b->slo);
     b->shi = malloc(nodes * sizeof *b->shi);
-    b->counter = malloc(n * sizeof *b->counter);
+    b->refit_list = malloc(nodes * sizeof *b->refit_list);
+    b->refit_task = malloc((REFIT_TASKS + 2) * sizeof *b->refit_task);
     b->scratch = malloc(4 * n * sizeof *b->scratch);
-    b->wide = malloc(n * sizeof *b->wide);
+    /* two cache lines a 4-wide node, aligned so that a node never spans a third */
+    b->wide = aligned_alloc(64, n * sizeof *b->wide);
+    b->wide_node = malloc(n * sizeof *b->wide_node);
+    b->wleaf = aligned_alloc(32, n * sizeof *b->wleaf);
     if (!b->morton || !b->order || !b->child || !b->parent || !b->lo || !b->hi || !b->slo ||
-        !b->shi || !b->counter || !b->scratch || !b->wide) {
+        !b->shi || !b->refit_list || !b->refit_task || !b->scratch || !b->wide || !b->wide_node ||
+        !b->wleaf) {
         sim_bvh_free(b);
         return SIM_COLLIDE_ENOMEM;
     }
@@ -53,9 +58,12 @@ void sim_bvh_free(sim_bvh *b)
     free(b->hi);
     free(b->slo);
     free(b->shi);
-    free(b->counter);
+    free(b->refit_list);
+    free(b->refit_task);
     free(b->scratch);
     free(b->wide);
+    free(b->wide_node);
+    free(b->wleaf);
     memset(b, 0, sizeof *b);
 }
 
@@ -179,58 +187,115 @@ static int leaf_of(const sim_bvh *b, int node)
 /* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i holds i's
    children, each internal one replaced by its own two children. Every binary node is a slot or
    expanded, so every leaf is reached once. Nodes are numbered in creation order; a node's
-   children come after it. */
+   children come after it. A node with leaf slots gets a block of their triangles (wleaf). */
 static void build_wide(sim_bvh *b)
 {
     b->nwide = 0;
+    b->nwleaf = 0;
     if (b->n < 2)
         return;
-    /* wide[w].node[0] holds the binary node w stands for until its slots are filled */
-    b->wide[b->nwide++].node[0] = 0;
+    /* wide_node[w][0] holds the binary node w stands for until its slots are filled */
+    b->wide_node[b->nwide++][0] = 0;
     for (int w = 0; w < b->nwide; w++) {
         sim_bvh_node4 *q = &b->wide[w];
-        int bin = q->node[0], count = 0;
+        int32_t *slot = b->wide_node[w];
+        int bin = slot[0], count = 0;
         for (int j = 0; j < 2; j++) {
             int ch = b->child[bin][j];
             if (leaf_of(b, ch) >= 0) {
-                q->node[count++] = ch;
+                slot[count++] = ch;
             } else {
-                q->node[count++] = b->child[ch][0];
-                q->node[count++] = b->child[ch][1];
+                slot[count++] = b->child[ch][0];
+                slot[count++] = b->child[ch][1];
             }
         }
+        memset(q, 0, sizeof *q);
+        atomic_init(&q->stamp, -1);
         q->count = count;
+        q->leaves = -1;
         for (int k = 0; k < 4; k++) {
             if (k >= count) {
-                q->node[k] = -1;
+                slot[k] = -1;
                 q->next[k] = -1;
                 continue;
             }
-            int leaf = leaf_of(b, q->node[k]);
+            int leaf = leaf_of(b, slot[k]);
             if (leaf >= 0) {
                 q->next[k] = -1 - leaf;
+                q->leaf_mask |= 1 << k;
             } else {
                 q->next[k] = b->nwide;
-                b->wide[b->nwide++].node[0] = q->node[k];
+                b->wide_node[b->nwide++][0] = slot[k];
             }
+        }
+        if (q->leaf_mask) {
+            sim_bvh_leaf4 *l = &b->wleaf[b->nwleaf];
+            memset(l, 0, sizeof *l);
+            for (int k = 0; k < 4; k++)
+                l->tri[k] = q->leaf_mask >> k & 1 ? b->order[-1 - q->next[k]] : -1;
+            q->leaves = b->nwleaf++;
         }
     }
 }
 
-/* The refit's boxes into the 4-wide nodes; empty slots far away (never within any radius: the
-   search also stops at count). */
-static void refit_wide(sim_bvh *b)
+/* Subtree of node r into out, children before their parent (a pre-order reversed); returns the
+   count. The stack holds at most one node a level plus one. */
+static int subtree_children_first(const sim_bvh *b, int r, int32_t *out)
 {
-#pragma omp parallel for schedule(static)
-    for (int w = 0; w < b->nwide; w++) {
-        sim_bvh_node4 *q = &b->wide[w];
-        for (int k = 0; k < 4; k++)
-            for (int a = 0; a < 3; a++) {
-                int bn = q->node[k];
-                q->lo[a][k] = bn >= 0 ? b->lo[bn][a] : FLT_MAX;
-                q->hi[a][k] = bn >= 0 ? b->hi[bn][a] : FLT_MAX;
-            }
+    int stack[BVH_STACK + 2], top = 0, m = 0;
+    stack[top++] = r;
+    while (top > 0) {
+        int node = stack[--top];
+        out[m++] = node;
+        if (leaf_of(b, node) < 0 && top + 2 <= BVH_STACK + 2) {
+            stack[top++] = b->child[node][0];
+            stack[top++] = b->child[node][1];
+        }
     }
+    for (int i = 0, j = m - 1; i < j; i++, j--) {
+        int32_t t = out[i];
+        out[i] = out[j];
+        out[j] = t;
+    }
+    return m;
+}
+
+/* The refit's schedule, per topology: the top of the tree split until REFIT_TASKS subtrees (the
+   largest split first), each subtree a task listed children first, then the split nodes, deepest
+   first. Every node's box is the min / max of its children's, whatever the order, so the boxes
+   are those of the atomic bottom-up pass (Karras 2012 section 4, the kernel's) bit for bit. */
+static void build_refit_order(sim_bvh *b)
+{
+    int32_t *size = (int32_t *)b->scratch; /* leaves under each node; the sort is done with it */
+    int32_t *all = b->refit_list;
+    int m = subtree_children_first(b, 0, all);
+    for (int i = 0; i < m; i++) {
+        int node = all[i];
+        size[node] = leaf_of(b, node) >= 0 ? 1 : size[b->child[node][0]] + size[b->child[node][1]];
+    }
+    int front[REFIT_TASKS + 1], nfront = 1, top[REFIT_TASKS], ntop = 0;
+    front[0] = 0;
+    while (nfront < REFIT_TASKS) {
+        int pick = -1;
+        for (int i = 0; i < nfront; i++)
+            if (leaf_of(b, front[i]) < 0 && (pick < 0 || size[front[i]] > size[front[pick]]))
+                pick = i;
+        if (pick < 0)
+            break;
+        int node = front[pick];
+        top[ntop++] = node;
+        front[pick] = b->child[node][0];
+        front[nfront++] = b->child[node][1];
+    }
+    int at = 0;
+    for (int i = 0; i < nfront; i++) {
+        b->refit_task[i] = at;
+        at += subtree_children_first(b, front[i], b->refit_list + at);
+    }
+    b->refit_task[nfront] = at;
+    for (int i = ntop - 1; i >= 0; i--)
+        b->refit_list[at++] = top[i];
+    b->nrefit_task = nfront;
 }
 
 void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
@@ -266,6 +331,8 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
             build_node(b, i);
     }
     build_wide(b);
+    if (nt > 1)
+        build_refit_order(b);
     sim_bvh_refit(b, v_prev, v, tris, pad_m);
 }
 
@@ -307,159 +374,36 @@ static void merge_box(float (*lo)[4], float (*hi)[4], int node, int l, int r)
     }
 }
 
+static void refit_node(sim_bvh *b, int node, const float (*v_prev)[4], const float (*v)[4],
+                       const int32_t (*tris)[4], float pad_m)
+{
+    if (node >= b->n - 1) {
+        leaf_box(b, node - (b->n - 1), v_prev, v, tris, pad_m);
+        return;
+    }
+    merge_box(b->lo, b->hi, node, b->child[node][0], b->child[node][1]);
+    merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
+}
+
 void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
                    const int32_t (*tris)[4], float pad_m)
 {
     int n = b->n;
     b->pad = pad_m;
+    /* the 4-wide nodes are filled from the new boxes when a search first reaches them */
+    b->epoch = (b->epoch + 1) & 0x3fffffff;
     if (n <= 1) {
         if (n == 1)
             leaf_box(b, 0, v_prev, v, tris, pad_m);
         return;
     }
-    memset(b->counter, 0, (size_t)(n - 1) * sizeof *b->counter);
-#pragma omp parallel for schedule(static)
-    for (int leaf = 0; leaf < n; leaf++) {
-        leaf_box(b, leaf, v_prev, v, tris, pad_m);
-        /* Karras 2012 section 4: the first child to arrive stops, the second (whose sibling's
-           box is then complete: the seq_cst atomic orders the writes) builds the parent. */
-        for (int node = b->parent[n - 1 + leaf]; node >= 0; node = b->parent[node]) {
-            int seen;
-#pragma omp atomic capture seq_cst
-            seen = b->counter[node]++;
-            if (seen == 0)
-                break;
-            merge_box(b->lo, b->hi, node, b->child[node][0], b->child[node][1]);
-            merge_box(b->slo, b->shi, node, b->child[node][0], b->child[node][1]);
-        }
-    }
-    refit_wide(b);
-}
-
-static float box_dist2(const float lo[4], const float hi[4], const float p[3])
-{
-    float d2 = 0.0f;
-    for (int k = 0; k < 3; k++) {
-        float e = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0f);
-        d2 += e * e;
-    }
-    return d2;
-}
-
-/* GCC / Clang vector extension: four floats in one SSE register, lane by lane IEEE arithmetic
-   (so each lane is bit for bit what the scalar code computes). */
-typedef float f4 __attribute__((vector_size(16)));
-typedef int32_t i4 __attribute__((vector_size(16)));
-
-/* box_dist2 of a 4-wide node's four slots at once, without branches: at most one of below, above
-   is positive (lo <= hi), and a mask keeps it (0 otherwise), so each lane is box_dist2's gap. */
-static void wide_box_dist2(const sim_bvh_node4 *w, const float p[3], float out[4])
-{
-    f4 d2 = {0.0f, 0.0f, 0.0f, 0.0f}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (int a = 0; a < 3; a++) {
-        f4 lo, hi, pa = {p[a], p[a], p[a], p[a]};
-        memcpy(&lo, w->lo[a], sizeof lo);
-        memcpy(&hi, w->hi[a], sizeof hi);
-        f4 below = lo - pa, above = pa - hi;
-        i4 mb = below > zero, ma = above > zero;
-        f4 e = (f4)((i4)below & mb) + (f4)((i4)above & ma);
-        d2 += e * e;
-    }
-    memcpy(out, &d2, sizeof d2);
-}
-
-/* Sorted leaf i against the best so far: nearer, or as near with a lower triangle index. */
-static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
-                         const float p[3], int i, int *best, float *best_d2, float q[3],
-                         float bary[3])
-{
-    int t = b->order[i];
-    float cq[3], cb[3];
-    sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
-    float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
-    float d2 = dx * dx + dy * dy + dz * dz;
-    if (d2 < *best_d2 || (d2 == *best_d2 && (*best < 0 || t < *best))) {
-        *best = t;
-        *best_d2 = d2;
-        memcpy(q, cq, sizeof cq);
-        memcpy(bary, cb, sizeof cb);
-    }
-}
-
-int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
-                    const float p[3], float radius_m, float q[3], float bary[3], float *dist_m)
-{
-    return sim_bvh_nearest_from(b, v, tris, p, radius_m, -1, q, bary, dist_m);
-}
-
-int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
-                         const float p[3], float radius_m, int hint, float q[3], float bary[3],
-                         float *dist_m)
-{
-    int best = -1;
-    float best_d2 = radius_m * radius_m;
-    if (b->n < 1)
-        return -1;
-    if (hint >= 0 && hint < b->n) {
-        /* The hint only shrinks the search ball: a node is pruned when strictly farther than the
-           best so far, so ties are still visited and the answer is the hint-free one. */
-        float cq[3], cb[3];
-        sim_closest_on_triangle(p, v[tris[hint][0]], v[tris[hint][1]], v[tris[hint][2]], cq, cb);
-        float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
-        float d2 = dx * dx + dy * dy + dz * dz;
-        if (d2 <= best_d2) {
-            best = hint;
-            best_d2 = d2;
-            memcpy(q, cq, sizeof cq);
-            memcpy(bary, cb, sizeof cb);
-        }
-    }
-    if (b->n == 1) {
-        nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary);
-    } else {
-        /* Nodes are pushed with their box distance, so a pop compares without recomputing, and
-           a child already farther than the best is never pushed. */
-        int stack[WIDE_STACK], top = 0;
-        float sd[WIDE_STACK];
-        stack[top] = 0;
-        sd[top++] = box_dist2(b->lo[0], b->hi[0], p);
-        while (top > 0) {
-            top--;
-            if (sd[top] > best_d2)
-                continue;
-            const sim_bvh_node4 *w = &b->wide[stack[top]];
-            float d2[4];
-            wide_box_dist2(w, p, d2);
-            /* leaves now (best_d2 shrinks early); internal slots pushed farthest first, so the
-               nearest is popped first */
-            int in[4], nin = 0;
-            for (int k = 0; k < w->count; k++) {
-                if (!(d2[k] <= best_d2))
-                    continue;
-                if (w->next[k] < 0)
-                    nearest_leaf(b, v, tris, p, -1 - w->next[k], &best, &best_d2, q, bary);
-                else
-                    in[nin++] = k;
-            }
-            if (top + nin > WIDE_STACK)
-                continue;                 /* cannot happen for trees built here (see WIDE_STACK) */
-            for (int i = 1; i < nin; i++) /* by distance, descending */
-                for (int j = i; j > 0 && d2[in[j]] > d2[in[j - 1]]; j--) {
-                    int t = in[j];
-                    in[j] = in[j - 1];
-                    in[j - 1] = t;
-                }
-            for (int i = 0; i < nin; i++) {
-                if (!(d2[in[i]] <= best_d2))
-                    continue;
-                stack[top] = w->next[in[i]];
-                sd[top++] = d2[in[i]];
-            }
-        }
-    }
-    if (best >= 0 && dist_m)
-        *dist_m = sqrtf(best_d2);
-    return best;
+    /* the subtrees in parallel, each children first; then the nodes above them */
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int task = 0; task < b->nrefit_task; task++)
+        for (int i = b->refit_task[task]; i < b->refit_task[task + 1]; i++)
+            refit_node(b, b->refit_list[i], v_prev, v, tris, pad_m);
+    for (int i = b->refit_task[b->nrefit_task]; i < 2 * n - 1; i++)
+        refit_node(b, b->refit_list[i], v_prev, v, tris, pad_m);
 }
 
 /* p inside the box grown by pad (0 for the swept boxes, which are stored padded). */

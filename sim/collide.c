@@ -15,6 +15,8 @@
 #define WALK_MAX_STEPS 8
 /* Twice the area (m^2) below which a triangle is degenerate: a 0.1 mm sliver of a 1 mm edge. */
 #define DEGENERATE_2AREA_M2 1e-10f
+/* vn_stamp of a vertex pseudo-normal being written (body_epoch is never negative). */
+#define SIM_VN_BUSY (-2)
 
 #define SIM_COLLIDE_ERROR_TEXT(name, value, text)                                                  \
     case name:                                                                                     \
@@ -60,9 +62,20 @@ sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t 
     c->vt_start = malloc((nv + 1) * sizeof *c->vt_start);
     c->vt_list = malloc(3 * nt * sizeof *c->vt_list);
     c->edge_scratch = malloc(3 * nt * sizeof(edge_key));
+    c->vn = malloc(nv * sizeof *c->vn);
+    c->vn_stamp = malloc(nv * sizeof *c->vn_stamp);
+    c->share = aligned_alloc(_Alignof(sim_contact_slot), SIM_SHARE_SLOTS * sizeof *c->share);
     if (!c->v || !c->v_prev || !c->tris || !c->n || !c->n_prev || !c->nbr || !c->vt_start ||
-        !c->vt_list || !c->edge_scratch)
+        !c->vt_list || !c->edge_scratch || !c->vn || !c->vn_stamp || !c->share)
         goto nomem;
+    for (size_t i = 0; i < nv; i++)
+        atomic_init(&c->vn_stamp[i], -1);
+    for (int i = 0; i < SIM_SHARE_SLOTS; i++) {
+        atomic_init(&c->share[i].word, 0); /* generation 0: closed */
+        atomic_init(&c->share[i].x, 0);
+        atomic_init(&c->share[i].begin, 0);
+        atomic_init(&c->share[i].end, 0);
+    }
     if (sim_bvh_init(&c->bvh, d->max_triangles) != 0)
         goto nomem;
     if (d->max_cloth > 0 && sim_collider_reserve(c, d->max_cloth) != 0)
@@ -88,6 +101,9 @@ void sim_collider_destroy(sim_collider *c)
     free(c->vt_start);
     free(c->vt_list);
     free(c->edge_scratch);
+    free(c->vn);
+    free(c->vn_stamp);
+    free(c->share);
     free(c->contact);
     free(c->clear);
     free(c->quiet);
@@ -402,6 +418,20 @@ static float corner_angle(const sim_collider *c, int t, int k)
     return sim_acos(cs);
 }
 
+/* Bærentzen & Aanæs 2005: the normals of the triangles around vertex vi weighted by their
+   angles there, summed in vertex-to-triangle order. */
+static void vertex_pseudo_normal(const sim_collider *c, int vi, float out[3])
+{
+    out[0] = out[1] = out[2] = 0.0f;
+    for (int j = c->vt_start[vi]; j < c->vt_start[vi + 1]; j++) {
+        int f = c->vt_list[j];
+        int k = c->tris[f][0] == vi ? 0 : (c->tris[f][1] == vi ? 1 : 2);
+        float a = corner_angle(c, f, k);
+        for (int m = 0; m < 3; m++)
+            out[m] += a * c->n[f][m];
+    }
+}
+
 void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float out[3])
 {
     if (region == SIM_REGION_FACE) {
@@ -415,14 +445,22 @@ void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float 
             out[k] = c->n[t][k] + (o >= 0 ? c->n[o][k] : c->n[t][k]);
         return;
     }
+    /* A vertex: from the cache when this body frame's is there (the response asks for the same
+       few hundred vertices in every iteration; computing all 10,000 per frame would cost more). */
     int vi = c->tris[t][region - SIM_REGION_V0];
-    out[0] = out[1] = out[2] = 0.0f;
-    for (int j = c->vt_start[vi]; j < c->vt_start[vi + 1]; j++) {
-        int f = c->vt_list[j];
-        int k = c->tris[f][0] == vi ? 0 : (c->tris[f][1] == vi ? 1 : 2);
-        float a = corner_angle(c, f, k);
-        for (int m = 0; m < 3; m++)
-            out[m] += a * c->n[f][m];
+    atomic_int *stamp = &c->vn_stamp[vi];
+    int seen = atomic_load_explicit(stamp, memory_order_acquire);
+    if (seen == c->body_epoch) {
+        memcpy(out, c->vn[vi], 3 * sizeof *out);
+        return;
+    }
+    vertex_pseudo_normal(c, vi, out);
+    if (seen != SIM_VN_BUSY &&
+        atomic_compare_exchange_strong_explicit(stamp, &seen, SIM_VN_BUSY, memory_order_acquire,
+                                                memory_order_relaxed)) {
+        memcpy(c->vn[vi], out, 3 * sizeof *out);
+        c->vn[vi][3] = 0.0f;
+        atomic_store_explicit(stamp, c->body_epoch, memory_order_release);
     }
 }
 
@@ -437,56 +475,6 @@ float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3
         return dot3(d, c->n[t]);
     sim_collider_pseudo_normal(c, t, region, pn);
     return dot3(d, pn) >= 0.0f ? dist : -dist;
-}
-
-/* The metric's bound for point i at p, whose contact search against this body frame gave t: t is
-   the nearest triangle of all (within reach, or at any distance), so its pseudo-normal signs the
-   distance exactly; none (-1) means nothing within reach and clearly outside. */
-static void set_clearance(sim_collider *c, int i, const float p[3], int t)
-{
-    float clear = c->d.thickness_m + c->d.reach_m;
-    if (t >= 0)
-        clear = sim_collider_signed_distance(c, t, p);
-    c->clear[i][0] = p[0];
-    c->clear[i][1] = p[1];
-    c->clear[i][2] = p[2];
-    c->clear[i][3] = c->nt > 0 ? clear : 0.0f;
-}
-
-void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin, int end)
-{
-    if (!c || !x)
-        return;
-    end = end < c->max_cloth ? end : c->max_cloth;
-    float reach = c->d.thickness_m + c->d.reach_m;
-    const float(*v)[4] = (const float(*)[4])c->v;
-    const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
-#pragma omp parallel for schedule(static)
-    for (int i = begin; i < end; i++) {
-        float q[3], bary[3], dist;
-        int t = c->nt > 0 ? sim_bvh_nearest_from(&c->bvh, v, tris, x[i], reach, c->contact[i], q,
-                                                 bary, &dist)
-                          : -1;
-        /* none within reach: far outside, or deep inside (then the nearest at any distance) */
-        if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
-            t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
-        c->contact[i] = t;
-        set_clearance(c, i, x[i], t);
-    }
-}
-
-void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
-                                 int begin, int end)
-{
-    if (!c || !x || !contact)
-        return;
-    end = end < c->max_cloth ? end : c->max_cloth;
-#pragma omp parallel for schedule(static)
-    for (int i = begin; i < end; i++) {
-        int t = contact[i] >= 0 && contact[i] < c->nt ? contact[i] : -1;
-        c->contact[i] = t;
-        set_clearance(c, i, x[i], t);
-    }
 }
 
 /* Squared distance from p to triangle t and the region of its closest point. */

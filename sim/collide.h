@@ -17,6 +17,7 @@
 #ifndef TRYON_SIM_COLLIDE_H
 #define TRYON_SIM_COLLIDE_H
 
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -132,6 +133,13 @@ enum {
 int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3], const float c[3],
                             float q[3], float bary[3]);
 
+/* sim_closest_on_triangle for p against four triangles at once, without branches (every region's
+   candidate computed, the scalar code's order of tests as masks): tri[vertex][axis][lane]. Each
+   lane is bit for bit what the scalar function gives for that triangle: q[axis][lane],
+   bary[k][lane], the region, and d2 = |p - q|^2 summed as the nearest search sums it. */
+void sim_closest_on_triangle4(const float p[3], const float tri[3][3][4], float q[3][4],
+                              float bary[3][4], float d2[4], int32_t region[4]);
+
 /* ---- The LBVH (Karras 2012) ------------------------------------------------------------------ */
 
 /* Nodes 0..n-2 are internal (0 is the root), n-1..2n-2 the leaves in Morton order; a child index
@@ -147,21 +155,38 @@ struct sim_bvh {
                                    queried, tight for the nearest-triangle search */
     float (*slo)[4], (*shi)[4]; /* swept boxes (k-1 with k, inflated by pad), per node */
     float pad;                  /* the thickness, m */
-    int *counter;               /* per internal node, for the bottom-up refit */
-    uint32_t *scratch;          /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
+    /* The refit's schedule (per topology): refit_list holds every node, children before their
+       parent, as nrefit_task subtrees (task i: refit_list[refit_task[i] .. refit_task[i + 1]))
+       and then the nodes above them. */
+    int32_t *refit_list, *refit_task;
+    int nrefit_task;
+    uint32_t *scratch; /* radix sort ping-pong, 2 * cap keys + 2 * cap values */
     /* The nearest search's 4-wide copy of the tree: each node holds a binary node's children or,
        where those are internal, their children, so a descent pops half as many nodes and tests
-       four boxes at once. Shape built with the topology, boxes copied from lo/hi by the refit. */
+       four boxes at once. Shape built with the topology; boxes (from lo/hi) and leaf blocks
+       filled by the first search to reach a node after each refit (its stamp says which). */
     struct sim_bvh_node4 *wide;
-    int nwide;
+    int32_t (*wide_node)[4]; /* per 4-wide node: each slot's binary node (-1: empty) */
+    /* The triangles of the 4-wide nodes' leaf slots, one block per node that has any, laid out
+       for sim_closest_on_triangle4. */
+    struct sim_bvh_leaf4 *wleaf;
+    int nwide, nwleaf;
+    int32_t epoch; /* incremented by every refit */
 };
 
 typedef struct sim_bvh_node4 {
     float lo[3][4], hi[3][4]; /* [axis][slot]: static boxes of the slots' binary nodes */
-    int32_t node[4];          /* each slot's binary node */
     int32_t next[4];          /* >= 0: the slot's 4-wide node; < 0: sorted leaf -1 - next */
     int32_t count;            /* slots in use, 2..4 */
+    int32_t leaves;           /* its block in wleaf, -1 when no slot is a leaf */
+    int32_t leaf_mask;        /* bit k: slot k is a leaf */
+    atomic_int stamp;         /* the refit (epoch) its boxes and leaf block hold, or WIDE_BUSY */
 } sim_bvh_node4;
+
+typedef struct sim_bvh_leaf4 {
+    float v[3][3][4]; /* [vertex][axis][slot]; slots that are not leaves hold zeros */
+    int32_t tri[4];   /* triangle of each slot, -1 when not a leaf */
+} sim_bvh_leaf4;
 
 int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
 void sim_bvh_free(sim_bvh *b);
@@ -221,7 +246,27 @@ struct sim_collider {
     float (*quiet)[4];
     int32_t (*quiet_key)[2];
     int32_t body_epoch; /* incremented by every sim_collider_set_body */
+    /* Vertex pseudo-normals of this body frame, computed on first use (sim_collider_pseudo_normal):
+       vn[i] is valid when vn_stamp[i] == body_epoch. The first thread to claim a vertex (stamp
+       set to SIM_VN_BUSY by compare-and-swap) writes it and then publishes the epoch; a thread
+       that finds it busy computes its own copy, the same bits. */
+    float (*vn)[4];
+    atomic_int *vn_stamp;
+    /* sim_collider_find_contacts called by a team (sim/find_contacts.c): each thread's range in
+       its slot, so that threads done with theirs take chunks of the others'. */
+    struct sim_contact_slot *share;
 };
+
+/* Threads a team may have for the shared contact search (a bigger team searches unshared). */
+#define SIM_SHARE_SLOTS 64
+/* Points a range of the shared search may hold (the slot word's offset has 24 bits). */
+#define SIM_SHARE_MAX_POINTS (1 << 23)
+
+typedef struct sim_contact_slot {
+    _Alignas(64) _Atomic uint64_t word; /* generation | chunks being helped | next offset */
+    _Atomic uintptr_t x;                /* the owner's cloth positions */
+    atomic_int begin, end;              /* the owner's range */
+} sim_contact_slot;
 
 /* Angle-weighted pseudo-normal (Baerentzen & Aanaes 2005) of the feature of triangle t named by a
    SIM_REGION_* (not normalised: only its direction is used). */

@@ -17,8 +17,8 @@
 
 #include "collide.h"
 
-/* Traversal stack: the LBVH depth bound of sim/bvh.c. */
-#define FP_STACK 96
+/* Traversal stack: the LBVH depth bound of sim/bvh.c (96), three more a level when 4-wide. */
+#define FP_STACK (3 * 96)
 
 static void sub3(const float *a, const float *b, float *o)
 {
@@ -114,42 +114,60 @@ static void coulomb_carry(const sim_collider *c, int t, const float p[3], float 
         out[k] = p[k] + dn * n[k] + keep * s[k];
 }
 
+static int in_swept_box(const sim_bvh *b, int node, const float p[3])
+{
+    const float *lo = b->slo[node], *hi = b->shi[node];
+    return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] &&
+           p[2] <= hi[2];
+}
+
+/* Triangle t against the best so far: in the swept prism, and nearer to p at k-1 (ties: lower
+   index). The best of a set is the same whatever the order its members come in. */
+static void take_candidate(const sim_collider *c, int t, const float p[3], int *best,
+                           float *best_d2)
+{
+    if (!in_swept_prism(c, t, p))
+        return;
+    const int32_t *f = c->tris[t];
+    float q[3], bary[3], r[3];
+    sim_closest_on_triangle(p, c->v_prev[f[0]], c->v_prev[f[1]], c->v_prev[f[2]], q, bary);
+    sub3(p, q, r);
+    float d2 = dot3(r, r);
+    if (d2 < *best_d2 || (d2 == *best_d2 && t < *best)) {
+        *best = t;
+        *best_d2 = d2;
+    }
+}
+
 /* D-BVH traversal: every triangle whose swept box holds p and whose swept prism holds p is a
    feature pair; the one nearest to p on frame k-1 wins (ties: lower triangle index). No cap on
    the candidates: a fast limb's swept boxes are several triangles wide, so a point sits in dozens
-   of them. -1 when none. */
+   of them. -1 when none. The descent follows the 4-wide shape of the tree (sim_bvh_node4) over
+   the binary nodes' swept boxes: half the pops, and the binary nodes it skips hold their slots'
+   boxes, so the leaves reached are the same (those whose own box holds p). */
 static int choose_triangle(const sim_collider *c, const float p[3])
 {
     const sim_bvh *b = &c->bvh;
     int best = -1;
     float best_d2 = INFINITY;
+    if (!in_swept_box(b, 0, p))
+        return -1;
+    if (b->n == 1) {
+        take_candidate(c, b->order[0], p, &best, &best_d2);
+        return best;
+    }
     int stack[FP_STACK], top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        int node = stack[--top];
-        const float *lo = b->slo[node], *hi = b->shi[node];
-        if (!(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] &&
-              p[2] <= hi[2]))
-            continue;
-        int leaf = b->n == 1 ? 0 : (node >= b->n - 1 ? node - (b->n - 1) : -1);
-        if (leaf < 0) {
-            if (top + 2 <= FP_STACK) {
-                stack[top++] = b->child[node][1];
-                stack[top++] = b->child[node][0];
-            }
-            continue;
-        }
-        int t = b->order[leaf];
-        if (!in_swept_prism(c, t, p))
-            continue;
-        const int32_t *f = c->tris[t];
-        float q[3], bary[3], r[3];
-        sim_closest_on_triangle(p, c->v_prev[f[0]], c->v_prev[f[1]], c->v_prev[f[2]], q, bary);
-        sub3(p, q, r);
-        float d2 = dot3(r, r);
-        if (d2 < best_d2 || (d2 == best_d2 && t < best)) {
-            best = t;
-            best_d2 = d2;
+        int w = stack[--top];
+        const sim_bvh_node4 *q = &b->wide[w];
+        for (int k = 0; k < q->count; k++) {
+            if (!in_swept_box(b, b->wide_node[w][k], p))
+                continue;
+            if (q->next[k] < 0)
+                take_candidate(c, b->order[-1 - q->next[k]], p, &best, &best_d2);
+            else if (top < FP_STACK)
+                stack[top++] = q->next[k];
         }
     }
     return best;

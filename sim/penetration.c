@@ -22,7 +22,7 @@
 #define SEG_SLACK 1e-5f
 /* Box slack for the segment's traversal, metres: above float rounding of a 2 m scene. */
 #define SEG_BOX_PAD 1e-6f
-#define SEG_STACK   96
+#define SEG_STACK   (3 * 96) /* the LBVH depth bound, three more a level when 4-wide */
 /* Slack on a clearance bound, metres: far above the rounding of a distance in a 2 m scene
    (float ulp there ~2e-7 m), far below the metric's 1 mm tolerance. */
 #define CLEAR_SLACK 1e-5f
@@ -102,30 +102,46 @@ static int segment_box(const float o[3], const float d[3], float tmax, const flo
     return 1;
 }
 
+/* Triangle t against the segment: the crossings so far, or -1 once one is unsure. */
+static int count_hit(const sim_collider *c, int t, const float p[3], const float d[3], float tmax,
+                     int n)
+{
+    const int32_t *f = c->tris[t];
+    int h = segment_hits(p, d, tmax, c->v[f[0]], c->v[f[1]], c->v[f[2]]);
+    return h == 2 ? -1 : n + h;
+}
+
 /* Crossings of the segment p -> p + tmax d with the body: their number, or -1 when one of them
-   is too close to an edge or an end to count reliably. */
+   is too close to an edge or an end to count reliably. The descent follows the 4-wide shape of
+   the tree (sim_bvh_node4) over the binary boxes: a box holds its children's, and the slab test
+   is monotone in the box (each bound's rounding is), so the leaves reached are exactly those
+   whose own box the segment meets, as in the binary descent, and the count is theirs. */
 static int segment_crossings(const sim_collider *c, const float p[3], const float d[3], float tmax)
 {
     const sim_bvh *b = &c->bvh;
+    if (!segment_box(p, d, tmax, b->lo[0], b->hi[0]))
+        return 0;
+    if (b->n == 1)
+        return count_hit(c, b->order[0], p, d, tmax, 0);
     int stack[SEG_STACK], top = 0, n = 0;
     stack[top++] = 0;
     while (top > 0) {
-        int node = stack[--top];
-        if (!segment_box(p, d, tmax, b->lo[node], b->hi[node]))
-            continue;
-        int leaf = b->n == 1 ? 0 : (node >= b->n - 1 ? node - (b->n - 1) : -1);
-        if (leaf >= 0) {
-            const int32_t *f = c->tris[b->order[leaf]];
-            int h = segment_hits(p, d, tmax, c->v[f[0]], c->v[f[1]], c->v[f[2]]);
-            if (h == 2)
-                return -1;
-            n += h;
-            continue;
+        int w = stack[--top];
+        const sim_bvh_node4 *q = &b->wide[w];
+        for (int k = 0; k < q->count; k++) {
+            int bn = b->wide_node[w][k];
+            if (!segment_box(p, d, tmax, b->lo[bn], b->hi[bn]))
+                continue;
+            if (q->next[k] < 0) {
+                n = count_hit(c, b->order[-1 - q->next[k]], p, d, tmax, n);
+                if (n < 0)
+                    return -1;
+            } else if (top < SEG_STACK) {
+                stack[top++] = q->next[k];
+            } else {
+                return -1; /* cannot happen; "unsure" lets the exact search decide */
+            }
         }
-        if (top + 2 > SEG_STACK)
-            return -1; /* cannot happen; "unsure" lets the exact search decide */
-        stack[top++] = b->child[node][1];
-        stack[top++] = b->child[node][0];
     }
     return n;
 }
