@@ -165,25 +165,6 @@ int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (
     return c->nt;
 }
 
-static void sub3(const float *a, const float *b, float *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static float dot3(const float *a, const float *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float *a, const float *b, float *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 static void set_bary(float q[3], float bary[3], const float *a, const float *b, const float *c,
                      float u, float v, float w)
 {
@@ -198,16 +179,16 @@ int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3]
                             float q[3], float bary[3])
 {
     float ab[3], ac[3], ap[3], bp[3], cp[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    float d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    sim_v3_sub(b, a, ab);
+    sim_v3_sub(c, a, ac);
+    sim_v3_sub(p, a, ap);
+    float d1 = sim_v3_dot(ab, ap), d2 = sim_v3_dot(ac, ap);
     if (d1 <= 0.0f && d2 <= 0.0f) {
         set_bary(q, bary, a, b, c, 1.0f, 0.0f, 0.0f);
         return SIM_REGION_V0;
     }
-    sub3(p, b, bp);
-    float d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    sim_v3_sub(p, b, bp);
+    float d3 = sim_v3_dot(ab, bp), d4 = sim_v3_dot(ac, bp);
     if (d3 >= 0.0f && d4 <= d3) {
         set_bary(q, bary, a, b, c, 0.0f, 1.0f, 0.0f);
         return SIM_REGION_V1;
@@ -218,8 +199,8 @@ int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3]
         set_bary(q, bary, a, b, c, 1.0f - v, v, 0.0f);
         return SIM_REGION_E01;
     }
-    sub3(p, c, cp);
-    float d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    sim_v3_sub(p, c, cp);
+    float d5 = sim_v3_dot(ab, cp), d6 = sim_v3_dot(ac, cp);
     if (d6 >= 0.0f && d5 <= d6) {
         set_bary(q, bary, a, b, c, 0.0f, 0.0f, 1.0f);
         return SIM_REGION_V2;
@@ -263,10 +244,10 @@ static int validate_body(const sim_collider *c, const float *xyz, int nv, const 
         if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
             return SIM_COLLIDE_EDEGENERATE;
         float e1[3], e2[3], cr[3];
-        sub3(xyz + 3 * f[1], xyz + 3 * f[0], e1);
-        sub3(xyz + 3 * f[2], xyz + 3 * f[0], e2);
-        cross3(e1, e2, cr);
-        if (!(sqrtf(dot3(cr, cr)) > DEGENERATE_2AREA_M2))
+        sim_v3_sub(xyz + 3 * f[1], xyz + 3 * f[0], e1);
+        sim_v3_sub(xyz + 3 * f[2], xyz + 3 * f[0], e2);
+        sim_v3_cross(e1, e2, cr);
+        if (!(sqrtf(sim_v3_dot(cr, cr)) > DEGENERATE_2AREA_M2))
             return SIM_COLLIDE_EDEGENERATE;
     }
     return 0;
@@ -319,10 +300,10 @@ static void face_normals(sim_collider *c)
 #pragma omp parallel for schedule(static)
     for (int t = 0; t < c->nt; t++) {
         float e1[3], e2[3], nr[3];
-        sub3(c->v[c->tris[t][1]], c->v[c->tris[t][0]], e1);
-        sub3(c->v[c->tris[t][2]], c->v[c->tris[t][0]], e2);
-        cross3(e1, e2, nr);
-        float len = sqrtf(dot3(nr, nr));
+        sim_v3_sub(c->v[c->tris[t][1]], c->v[c->tris[t][0]], e1);
+        sim_v3_sub(c->v[c->tris[t][2]], c->v[c->tris[t][0]], e2);
+        sim_v3_cross(e1, e2, nr);
+        float len = sqrtf(sim_v3_dot(nr, nr));
         for (int k = 0; k < 3; k++)
             c->n[t][k] = nr[k] / len;
         c->n[t][3] = 0.0f;
@@ -411,9 +392,9 @@ static float corner_angle(const sim_collider *c, int t, int k)
     const float *p = c->v[c->tris[t][k]], *a = c->v[c->tris[t][(k + 1) % 3]],
                 *b = c->v[c->tris[t][(k + 2) % 3]];
     float u[3], w[3];
-    sub3(a, p, u);
-    sub3(b, p, w);
-    float cs = dot3(u, w) / sqrtf(dot3(u, u) * dot3(w, w));
+    sim_v3_sub(a, p, u);
+    sim_v3_sub(b, p, w);
+    float cs = sim_v3_dot(u, w) / sqrtf(sim_v3_dot(u, u) * sim_v3_dot(w, w));
     cs = cs > 1.0f ? 1.0f : (cs < -1.0f ? -1.0f : cs);
     return sim_acos(cs);
 }
@@ -469,12 +450,12 @@ float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3
     float q[3], bary[3], d[3], pn[3];
     const int32_t *f = c->tris[t];
     int region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
-    sub3(p, q, d);
-    float dist = sqrtf(dot3(d, d));
+    sim_v3_sub(p, q, d);
+    float dist = sqrtf(sim_v3_dot(d, d));
     if (region == SIM_REGION_FACE)
-        return dot3(d, c->n[t]);
+        return sim_v3_dot(d, c->n[t]);
     sim_collider_pseudo_normal(c, t, region, pn);
-    return dot3(d, pn) >= 0.0f ? dist : -dist;
+    return sim_v3_dot(d, pn) >= 0.0f ? dist : -dist;
 }
 
 /* Squared distance from p to triangle t and the region of its closest point. */
@@ -483,8 +464,8 @@ static float tri_dist2(const sim_collider *c, int t, const float p[3], int *regi
     float q[3], bary[3], d[3];
     const int32_t *f = c->tris[t];
     *region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
-    sub3(p, q, d);
-    return dot3(d, d);
+    sim_v3_sub(p, q, d);
+    return sim_v3_dot(d, d);
 }
 
 /* Greedy descent over the body surface from triangle t: while the closest point lies on an edge
@@ -546,157 +527,5 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
                 t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
             c->contact[i] = t;
         }
-    }
-}
-
-/* The quiet radius (sim_collider_resolve): margins of QUIET_EPS_M = 50 um against rounding (the
-   values below carry errors of some 1e-6 m for body coordinates of a few metres), and only on
-   triangles whose heights are at least QUIET_MIN_HEIGHT_M, where the region tests of
-   sim_closest_on_triangle are that accurate too. */
-#define QUIET_EPS_M        5e-5f
-#define QUIET_MIN_HEIGHT_M 1e-3f
-
-/* Point p (face region of triangle t, signed distance dist >= thickness, closest point with
-   barycentrics bary) moved nothing. Within what radius of p does that hold for sure? While p stays
-   nearer than its margin to each edge line of t and its plane distance above thickness, the
-   closest point stays in the face region and the response moves nothing. 0: no radius. */
-static float quiet_radius(const sim_collider *c, int t, float dist, const float bary[3])
-{
-    const int32_t *f = c->tris[t];
-    const float *a = c->v[f[0]], *b = c->v[f[1]], *p = c->v[f[2]];
-    float ab[3], ac[3], bc[3], cr[3];
-    sub3(b, a, ab);
-    sub3(p, a, ac);
-    sub3(p, b, bc);
-    cross3(ab, ac, cr);
-    float area2 = sqrtf(dot3(cr, cr));
-    /* heights onto the edges opposite a, b, c; the distance of the closest point to each edge is
-       its barycentric times that height */
-    float h[3] = {area2 / sqrtf(dot3(bc, bc)), area2 / sqrtf(dot3(ac, ac)),
-                  area2 / sqrtf(dot3(ab, ab))};
-    float r = dist - c->d.thickness_m;
-    for (int k = 0; k < 3; k++) {
-        if (!(h[k] >= QUIET_MIN_HEIGHT_M))
-            return 0.0f;
-        float m = bary[k] * h[k];
-        r = m < r ? m : r;
-    }
-    r -= QUIET_EPS_M;
-    return r > 0.0f ? r : 0.0f;
-}
-
-/* The same for a point whose closest point q lies on an edge or a vertex of t (d = p - q, len =
-   |d| >= thickness, signed positive by the feature's pseudo-normal). As p moves by r, d moves by
-   at most 2 r (the closest point on a triangle is 1-Lipschitz in p), so d stays on the positive
-   side of every pseudo-normal of t (face, edges, vertices) with more margin than 2 r, whichever
-   feature q then lies on, and len stays above thickness while r < len - thickness. */
-static float quiet_radius_feature(const sim_collider *c, int t, const float d[3], float len)
-{
-    const int32_t *f = c->tris[t];
-    const float *a = c->v[f[0]], *b = c->v[f[1]], *p = c->v[f[2]];
-    float ab[3], ac[3], bc[3];
-    sub3(b, a, ab);
-    sub3(p, a, ac);
-    sub3(p, b, bc);
-    float r = len - c->d.thickness_m;
-    if (!(r > QUIET_EPS_M))
-        return 0.0f;
-    /* the region tests need the same accuracy as for the face */
-    float cr[3];
-    cross3(ab, ac, cr);
-    float area2 = sqrtf(dot3(cr, cr));
-    if (!(area2 / sqrtf(dot3(bc, bc)) >= QUIET_MIN_HEIGHT_M &&
-          area2 / sqrtf(dot3(ac, ac)) >= QUIET_MIN_HEIGHT_M &&
-          area2 / sqrtf(dot3(ab, ab)) >= QUIET_MIN_HEIGHT_M))
-        return 0.0f;
-    for (int region = SIM_REGION_FACE; region <= SIM_REGION_E20; region++) {
-        float pn[3];
-        sim_collider_pseudo_normal(c, t, region, pn);
-        float pl = sqrtf(dot3(pn, pn));
-        if (!(pl > 0.0f))
-            return 0.0f;
-        float m = 0.5f * dot3(d, pn) / pl;
-        r = m < r ? m : r;
-    }
-    r -= QUIET_EPS_M;
-    return r > 0.0f ? r : 0.0f;
-}
-
-/* One point against its cached triangle: out to thickness along the contact normal, then
-   Coulomb-like friction on the motion since x_prev, bounded by friction * the push. Returns the
-   quiet radius when it moved nothing (0 when it did, or none is known). */
-static float resolve_point(const sim_collider *c, int t, float *x, float *x_prev)
-{
-    float q[3], bary[3], d[3], nrm[3];
-    const int32_t *f = c->tris[t];
-    int region = sim_closest_on_triangle(x, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
-    sub3(x, q, d);
-    float dist;
-    if (region == SIM_REGION_FACE) {
-        memcpy(nrm, c->n[t], sizeof nrm);
-        dist = dot3(d, nrm);
-    } else {
-        float pn[3];
-        sim_collider_pseudo_normal(c, t, region, pn);
-        float len = sqrtf(dot3(d, d));
-        if (dot3(d, pn) >= 0.0f && len > 1e-9f) {
-            for (int k = 0; k < 3; k++)
-                nrm[k] = d[k] / len;
-            dist = len;
-        } else {
-            float pl = sqrtf(dot3(pn, pn));
-            for (int k = 0; k < 3; k++)
-                nrm[k] = pn[k] / pl;
-            dist = -len;
-        }
-    }
-    float push = c->d.thickness_m - dist;
-    if (!(push > 0.0f))
-        return region == SIM_REGION_FACE ? quiet_radius(c, t, dist, bary)
-                                         : quiet_radius_feature(c, t, d, dist);
-    for (int k = 0; k < 3; k++)
-        x[k] += push * nrm[k];
-    float rel[3], tan[3];
-    sub3(x, x_prev, rel);
-    float rn = dot3(rel, nrm);
-    for (int k = 0; k < 3; k++)
-        tan[k] = rel[k] - rn * nrm[k];
-    float tl = sqrtf(dot3(tan, tan)), limit = c->d.friction * push;
-    if (!(tl > 0.0f))
-        return 0.0f;
-    float keep = tl <= limit ? 1.0f : limit / tl;
-    for (int k = 0; k < 3; k++)
-        x[k] -= keep * tan[k];
-    return 0.0f;
-}
-
-void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
-                          int end)
-{
-    if (!c || !x || !x_prev || c->nt == 0)
-        return;
-    end = end < c->max_cloth ? end : c->max_cloth;
-    /* A point the response left alone, still within its quiet radius of where it was then
-       (same triangle, same body frame), would be left alone again: skipped, the result is the
-       same (quiet_radius). Of some 5,000 points in contact per step, a few dozen are pushed. */
-#pragma omp parallel for schedule(static)
-    for (int i = begin; i < end; i++) {
-        int t = c->contact[i];
-        if (t < 0 || x[i][3] == 0.0f)
-            continue;
-        float *qu = c->quiet[i];
-        if (c->quiet_key[i][0] == t && c->quiet_key[i][1] == c->body_epoch && qu[3] > 0.0f) {
-            float d[3];
-            sub3(x[i], qu, d);
-            if (dot3(d, d) < qu[3] * qu[3])
-                continue;
-        }
-        float r = resolve_point(c, t, x[i], x_prev[i]);
-        qu[0] = x[i][0];
-        qu[1] = x[i][1];
-        qu[2] = x[i][2];
-        qu[3] = r;
-        c->quiet_key[i][0] = t;
-        c->quiet_key[i][1] = c->body_epoch;
     }
 }

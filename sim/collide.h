@@ -116,6 +116,26 @@ int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (
 
 /* ---- Geometry shared by the C reference and its OpenCL twins --------------------------------- */
 
+/* 3-vectors in float[3] (or the xyz of a float[4]), the operations in the kernels' order. */
+static inline void sim_v3_sub(const float *a, const float *b, float *o)
+{
+    o[0] = a[0] - b[0];
+    o[1] = a[1] - b[1];
+    o[2] = a[2] - b[2];
+}
+
+static inline float sim_v3_dot(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void sim_v3_cross(const float *a, const float *b, float *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 /* Where the closest point of a triangle lies: its face, one of its vertices, or one of its edges
    (edge i joins vertex i and vertex (i+1)%3). */
 enum {

@@ -20,34 +20,15 @@
 /* Traversal stack: the LBVH depth bound of sim/bvh.c (96), three more a level when 4-wide. */
 #define FP_STACK (3 * 96)
 
-static void sub3(const float *a, const float *b, float *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static float dot3(const float *a, const float *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float *a, const float *b, float *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Is p in the swept prism of triangle t? */
 static int in_swept_prism(const sim_collider *c, int t, const float p[3])
 {
     const int32_t *f = c->tris[t];
     float h = c->d.thickness_m, r[3];
-    sub3(p, c->v_prev[f[0]], r);
-    float d0 = dot3(r, c->n_prev[t]);
-    sub3(p, c->v[f[0]], r);
-    float d1 = dot3(r, c->n[t]);
+    sim_v3_sub(p, c->v_prev[f[0]], r);
+    float d0 = sim_v3_dot(r, c->n_prev[t]);
+    sim_v3_sub(p, c->v[f[0]], r);
+    float d1 = sim_v3_dot(r, c->n[t]);
     if (!(d0 >= -h && d1 < h && d1 < d0))
         return 0;
     float e0 = d0 - h, e1 = d1 - h;
@@ -63,15 +44,15 @@ static int in_swept_prism(const sim_collider *c, int t, const float p[3])
        above a vertex lies outside every face's own prism. */
     float q[3], bary[3], ab[3], ac[3], nr[3];
     sim_closest_on_triangle(p, a, b, cc, q, bary);
-    sub3(b, a, ab);
-    sub3(cc, a, ac);
-    cross3(ab, ac, nr);
-    float nn = dot3(nr, nr);
+    sim_v3_sub(b, a, ab);
+    sim_v3_sub(cc, a, ac);
+    sim_v3_cross(ab, ac, nr);
+    float nn = sim_v3_dot(nr, nr);
     if (!(nn > 0.0f))
         return 0;
-    sub3(p, q, r);
-    float rn = dot3(r, nr);
-    float lateral2 = dot3(r, r) - rn * rn / nn;
+    sim_v3_sub(p, q, r);
+    float rn = sim_v3_dot(r, nr);
+    float lateral2 = sim_v3_dot(r, r) - rn * rn / nn;
     return lateral2 <= h * h;
 }
 
@@ -83,8 +64,8 @@ static void carry(const sim_collider *c, int t, const float p[3], float out[3])
     /* Eq. 1: project p onto T^{k-1}; theta its barycentrics, clamped to the triangle (the
        closest point is the normal projection when that falls inside). */
     sim_closest_on_triangle(p, c->v_prev[f[0]], c->v_prev[f[1]], c->v_prev[f[2]], q, theta);
-    sub3(p, q, r);
-    float dist = dot3(r, c->n_prev[t]);
+    sim_v3_sub(p, q, r);
+    float dist = sim_v3_dot(r, c->n_prev[t]);
     float off = dist > c->d.thickness_m ? dist : c->d.thickness_m;
     /* Eq. 2: the same barycentrics on T^k, at max(dist, thickness) along n^k. */
     for (int k = 0; k < 3; k++)
@@ -102,11 +83,11 @@ static void coulomb_carry(const sim_collider *c, int t, const float p[3], float 
 {
     const float *n = c->n[t];
     float d[3], s[3];
-    sub3(out, p, d);
-    float dn = dot3(d, n);
+    sim_v3_sub(out, p, d);
+    float dn = sim_v3_dot(d, n);
     for (int k = 0; k < 3; k++)
         s[k] = d[k] - dn * n[k];
-    float slide = sqrtf(dot3(s, s)), most = c->d.friction * fabsf(dn);
+    float slide = sqrtf(sim_v3_dot(s, s)), most = c->d.friction * fabsf(dn);
     if (!(slide > most))
         return;
     float keep = most / slide;
@@ -131,8 +112,8 @@ static void take_candidate(const sim_collider *c, int t, const float p[3], int *
     const int32_t *f = c->tris[t];
     float q[3], bary[3], r[3];
     sim_closest_on_triangle(p, c->v_prev[f[0]], c->v_prev[f[1]], c->v_prev[f[2]], q, bary);
-    sub3(p, q, r);
-    float d2 = dot3(r, r);
+    sim_v3_sub(p, q, r);
+    float d2 = sim_v3_dot(r, r);
     if (d2 < *best_d2 || (d2 == *best_d2 && t < *best)) {
         *best = t;
         *best_d2 = d2;

@@ -27,25 +27,6 @@
    (float ulp there ~2e-7 m), far below the metric's 1 mm tolerance. */
 #define CLEAR_SLACK 1e-5f
 
-static void sub3(const float *a, const float *b, float *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static float dot3(const float *a, const float *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float *a, const float *b, float *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Segment o + t d, t in [0, tmax], against triangle (a, b, c) (Moeller & Trumbore 1997): 0 no hit,
    1 a clear hit, 2 a hit within slack of an edge or end (a vertex or edge crossing may count
    twice or not at all: the caller then asks the exact search). A segment in the triangle's plane
@@ -54,22 +35,22 @@ static int segment_hits(const float o[3], const float d[3], float tmax, const fl
                         const float *b, const float *c)
 {
     float e1[3], e2[3], pv[3], tv[3], qv[3];
-    sub3(b, a, e1);
-    sub3(c, a, e2);
-    cross3(d, e2, pv);
-    float det = dot3(e1, pv);
+    sim_v3_sub(b, a, e1);
+    sim_v3_sub(c, a, e2);
+    sim_v3_cross(d, e2, pv);
+    float det = sim_v3_dot(e1, pv);
     if (det == 0.0f)
         return 0;
     float inv = 1.0f / det;
-    sub3(o, a, tv);
-    float u = dot3(tv, pv) * inv;
+    sim_v3_sub(o, a, tv);
+    float u = sim_v3_dot(tv, pv) * inv;
     if (u < -SEG_SLACK || u > 1.0f + SEG_SLACK)
         return 0;
-    cross3(tv, e1, qv);
-    float v = dot3(d, qv) * inv;
+    sim_v3_cross(tv, e1, qv);
+    float v = sim_v3_dot(d, qv) * inv;
     if (v < -SEG_SLACK || u + v > 1.0f + SEG_SLACK)
         return 0;
-    float t = dot3(e2, qv) * inv;
+    float t = sim_v3_dot(e2, qv) * inv;
     if (t < -SEG_SLACK || t > tmax + SEG_SLACK)
         return 0;
     int clear = u > SEG_SLACK && v > SEG_SLACK && u + v < 1.0f - SEG_SLACK && t > SEG_SLACK &&
@@ -177,7 +158,7 @@ static float fast_sd(const sim_collider *c, const float p[3], int hint)
     float q[3], bary[3], d[3];
     const int32_t *f = c->tris[t];
     sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
-    sub3(q, p, d);
+    sim_v3_sub(q, p, d);
     return segment_crossings(c, p, d, SEG_END) == 0 ? sd : exact_sd(c, p, t);
 }
 
@@ -192,9 +173,9 @@ static int still_outside(const sim_collider *c, int i, const float p[3])
     if (!(b[3] > CLEAR_SLACK))
         return 0;
     float d[3];
-    sub3(p, b, d);
+    sim_v3_sub(p, b, d);
     float m = b[3] - CLEAR_SLACK;
-    return dot3(d, d) < m * m;
+    return sim_v3_dot(d, d) < m * m;
 }
 
 static int metric(const sim_collider *c, const float (*x)[4], int n, float tol_m, int exact,
