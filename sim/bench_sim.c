@@ -435,11 +435,15 @@ int main(int argc, char **argv)
         printf("%-10s %9s %8s %9s\n", "motion", "strain%", "p99%", "error_mm");
         for (int m = 0; m < sim_scene_segment_count(); m++) {
             float mx = 0, p = 0;
+            int seen = 0;
             for (int f = settle; f < o.frames; f++)
                 if (frame_segment(&o, f) == m) {
                     mx = fmaxf(mx, r.st[f].max_strain);
                     p = fmaxf(p, r.st[f].p99_strain);
+                    seen++;
                 }
+            if (!seen)
+                continue; /* --frames stopped before this motion */
             printf("%-10s %9.2f %8.2f %9.2f\n", sim_scene_segment_name(m), mx * 100.0f, p * 100.0f,
                    ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0);
         }
