@@ -61,6 +61,18 @@ void sim_strain_limit_one(__global float4 *x, __global const int2 *ends, __globa
     sim_move_ends(x, i, j, d, c, wi, wj);
 }
 
+/* Twin of pull_within (sim/springs.c): x[i] moved alone to within lmax of x[q]. */
+void sim_pull_within(__global float4 *x, int i, int q, float lmax)
+{
+    float4 p = x[i], o = x[q];
+    float dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+    float l = sqrt(dx * dx + dy * dy + dz * dz);
+    if (l <= lmax)
+        return;
+    float c = (l - lmax) / l;
+    x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
+}
+
 /* Long-range attachment of vertex i to its anchor (sim_tethers). */
 void sim_tether_one(__global float4 *x, __global const int *anchor, __global const float *len,
                     int i, float limit)
@@ -68,14 +80,7 @@ void sim_tether_one(__global float4 *x, __global const int *anchor, __global con
     int a = anchor[i];
     if (a < 0 || x[i].w == 0.0f)
         return;
-    float4 p = x[i], q = x[a];
-    float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-    float l = sqrt(dx * dx + dy * dy + dz * dz);
-    float lmax = len[i] * (1.0f + limit);
-    if (l <= lmax)
-        return;
-    float c = (l - lmax) / l;
-    x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
+    sim_pull_within(x, i, a, len[i] * (1.0f + limit));
 }
 
 /* The strain-limit hierarchy, entry e (sim_strain_hierarchy): its vertex moved alone to within
@@ -87,16 +92,8 @@ void sim_strain_hierarchy_one(__global float4 *x, __global const int *vertex,
     int i = vertex[e];
     if (x[i].w == 0.0f)
         return;
-    for (int k = parent_start[e]; k < parent_start[e + 1]; k++) {
-        float4 p = x[i], q = x[parent[k]];
-        float dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-        float len = sqrt(dx * dx + dy * dy + dz * dz);
-        float lmax = rest[k] * (1.0f + limit);
-        if (len <= lmax)
-            continue;
-        float c = (len - lmax) / len;
-        x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
-    }
+    for (int k = parent_start[e]; k < parent_start[e + 1]; k++)
+        sim_pull_within(x, i, parent[k], rest[k] * (1.0f + limit));
 }
 
 /* Post-stabilisation brackets (sim_post_begin / sim_post_end): x_prev -= x, then += x. */

@@ -425,6 +425,18 @@ void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest
     }
 }
 
+/* Point p moved alone (q stays) to within lmax of q, along q - p; nothing when it is within. */
+static void pull_within(float *p, const float *q, float lmax)
+{
+    float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len <= lmax)
+        return;
+    float c = (len - lmax) / len;
+    for (int a = 0; a < 3; a++)
+        p[a] -= d[a] * c;
+}
+
 /* Shock propagation (Guendelman, Bridson & Fedkiw 2003) applied to strain limiting: processed
  * from the attachments outward, each vertex is corrected against its already-final parents as if
  * they were infinitely heavy, so one pass removes a stretch that Gauss-Seidel sweeps remove one
@@ -437,17 +449,8 @@ void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *p
         int i = vertex[e];
         if (x[i][3] == 0.0f)
             continue; /* pinned: the driver places it */
-        for (int k = parent_start[e]; k < parent_start[e + 1]; k++) {
-            int p = parent[k];
-            float d[3] = {x[i][0] - x[p][0], x[i][1] - x[p][1], x[i][2] - x[p][2]};
-            float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            float lmax = rest[k] * (1.0f + limit);
-            if (len <= lmax)
-                continue;
-            float c = (len - lmax) / len;
-            for (int a = 0; a < 3; a++)
-                x[i][a] -= d[a] * c;
-        }
+        for (int k = parent_start[e]; k < parent_start[e + 1]; k++)
+            pull_within(x[i], x[parent[k]], rest[k] * (1.0f + limit));
     }
 }
 
@@ -512,17 +515,7 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
         }
     }
 #endif
-    for (; i < end; i++) {
-        int a = anchor[i];
-        if (a < 0 || x[i][3] == 0.0f)
-            continue;
-        float d[3] = {x[i][0] - x[a][0], x[i][1] - x[a][1], x[i][2] - x[a][2]};
-        float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        float lmax = len[i] * (1.0f + limit);
-        if (l <= lmax)
-            continue;
-        float c = (l - lmax) / l;
-        for (int k = 0; k < 3; k++)
-            x[i][k] -= d[k] * c;
-    }
+    for (; i < end; i++)
+        if (anchor[i] >= 0 && x[i][3] != 0.0f)
+            pull_within(x[i], x[anchor[i]], len[i] * (1.0f + limit));
 }
