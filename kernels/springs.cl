@@ -111,6 +111,23 @@ void sim_post_end_one(__global const float4 *x, __global float4 *x_prev, int i)
         x_prev[i] = (float4)(q.x + p.x, q.y + p.y, q.z + p.z, q.w);
 }
 
+/* The moving frame (sim/follow.c sim_follow): x and x_prev of every vertex moved by the rigid
+   motion whose rows are r0, r1, r2 (x' = r.xyz . x + r.w), in the C loop's order. */
+__kernel void sim_follow(__global float4 *x, __global float4 *x_prev, int n, float4 r0, float4 r1,
+                         float4 r2)
+{
+    int i = get_global_id(0);
+    if (i >= n)
+        return;
+    float4 p = x[i], q = x_prev[i];
+    x[i] = (float4)(r0.x * p.x + r0.y * p.y + r0.z * p.z + r0.w,
+                    r1.x * p.x + r1.y * p.y + r1.z * p.z + r1.w,
+                    r2.x * p.x + r2.y * p.y + r2.z * p.z + r2.w, p.w);
+    x_prev[i] = (float4)(r0.x * q.x + r0.y * q.y + r0.z * q.z + r0.w,
+                         r1.x * q.x + r1.y * q.y + r1.z * q.z + r1.w,
+                         r2.x * q.x + r2.y * q.y + r2.z * q.z + r2.w, q.w);
+}
+
 /* The layout of sim_attachment (sim/sim.h). */
 typedef struct sim_attachment {
     int vertex;

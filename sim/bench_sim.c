@@ -39,7 +39,8 @@ static void usage(void)
             "[--frames F]\n"
             "         [--body-verts N (body model, 0 = its default)]\n"
             "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
-            "         [--stretch N/m] [--bend N/m] [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
+            "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
+            "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
             "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
             "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
             "                 in all and per motion (each computed once into the cache)\n",
@@ -85,6 +86,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->cache_dir = v;
         else if (strcmp(a, "--stretch") == 0)
             o->desc.fabric.stretch_n_m = (float)atof(v);
+        else if (strcmp(a, "--follow") == 0)
+            o->desc.follow = (float)atof(v);
         else if (strcmp(a, "--bend") == 0)
             o->desc.fabric.bend_n_m = (float)atof(v);
         else if (strcmp(a, "--backend") == 0 && (!strcmp(v, "c") || !strcmp(v, "opencl")))
@@ -220,7 +223,8 @@ static uint32_t garment_hash(const bench_opts *o)
     return h;
 }
 
-/* The reference: the tryon solver on C with `iters` iterations (smaller steps), its snapshots
+/* The reference: the tryon solver on C with `iters` iterations (smaller steps) in the world
+ * frame (whatever --follow the measured run has), its snapshots
  * cached on disk. *nv: the vertex count, or 0 to take it from the cache file. compute = 0: from
  * the cache only (NULL when it is not there). */
 static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
@@ -255,6 +259,7 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
     d.backend = SIM_BACKEND_C;
     d.solver = SIM_SOLVER_TRYON;
     d.iterations = iters;
+    d.follow = -1.0f; /* the world frame: the physics without the moving frame's shortcut */
     bench_run rr = {0};
     if (run(o, &d, 0, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
         run_free(&rr);
@@ -449,17 +454,24 @@ int main(int argc, char **argv)
         }
     }
     free(ref);
+    /* the moving frame in effect (sim.h: 0 = 1, < 0 = none; the seed and garments with fewer
+       than 3 attachments, such as the drape, have none) */
+    float follow = o.desc.follow == 0.0f ? 1.0f : fmaxf(o.desc.follow, 0.0f);
+    if (o.desc.solver == SIM_SOLVER_SEED || strcmp(o.scene, "body") != 0)
+        follow = 0.0f;
     printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"solver\":\"%s\",\"backend\":\"%s\","
            "\"device\":\"%s\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,"
            "\"ms_median\":%.3f,\"ms_p95\":%.3f,\"max_strain\":%.5f,\"p99_strain\":%.5f,"
            "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
-           "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f}\n",
+           "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
+           "\"follow\":%g}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
-           r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm);
+           r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
+           follow);
     run_free(&r);
     return 0;
 }

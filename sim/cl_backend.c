@@ -1,7 +1,7 @@
 /* The OpenCL backend (sim_backend_ops): the per-frame work of the tryon solver on an OpenCL
  * device, twin of sim/solver_c.c. Per frame: the new body vertices up, face normals and refit,
- * feature points, attachments, contacts, then ONE kernel running every iteration in one
- * work-group (kernels/springs.cl sim_iterations_tryon), then x and x_prev back to the host.
+ * the moving frame, feature points, attachments, contacts, then ONE kernel running every iteration
+ * in one work-group (kernels/springs.cl sim_iterations_tryon), then x and x_prev back to the host.
  * About ten commands a frame however many iterations and colours. The seed solver variant runs on
  * the C backend only. */
 #include <math.h>
@@ -26,7 +26,7 @@ typedef struct cl_state {
     sim_cl_collide g;
     cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach, att_from, att_to;
     cl_mem hier_level_start, hier_vertex, hier_parent_start, hier_parent, hier_rest;
-    cl_kernel k_iter, k_attach;
+    cl_kernel k_iter, k_attach, k_follow;
     size_t group;
     int32_t *moved;       /* host copy of the per-point flags */
     int32_t *contact;     /* host copy of the frame's contacts, for the host metric */
@@ -50,6 +50,8 @@ static void cl_destroy(void *state)
         clReleaseKernel(c->k_iter);
     if (c->k_attach)
         clReleaseKernel(c->k_attach);
+    if (c->k_follow)
+        clReleaseKernel(c->k_follow);
     if (c->att_from)
         clReleaseMemObject(c->att_from);
     if (c->att_to)
@@ -162,7 +164,8 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         goto fail;
     }
     if (!(c->k_iter = sim_cl_kernel(&c->cl, "sim_iterations_tryon", err, err_size)) ||
-        !(c->k_attach = sim_cl_kernel(&c->cl, "sim_attachment_targets", err, err_size)))
+        !(c->k_attach = sim_cl_kernel(&c->cl, "sim_attachment_targets", err, err_size)) ||
+        !(c->k_follow = sim_cl_kernel(&c->cl, "sim_follow", err, err_size)))
         goto fail;
     size_t wg = 1;
     st = clGetKernelWorkGroupInfo(c->k_iter, c->cl.device, CL_KERNEL_WORK_GROUP_SIZE, sizeof wg,
@@ -203,6 +206,32 @@ static cl_int attachments(cl_state *c, const sim_cloth *k)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = (size_t)k->num_attachments;
     return clEnqueueNDRangeKernel(c->cl.queue, a, 1, NULL, &global, NULL, 0, NULL, NULL);
+}
+
+/* The moving frame of this body frame (sim/follow.c), on the device and on the host copy (which
+   frame_travel reads): the same bits. */
+static cl_int follow(cl_state *c, struct sim *s)
+{
+    sim_cloth *k = &s->cloth;
+    if (!s->follow_on)
+        return CL_SUCCESS;
+    sim_follow(k->x, k->x_prev, 0, k->nv, s->follow_m);
+    const float *m = s->follow_m;
+    cl_float4 r[3];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 4; b++)
+            r[a].s[b] = m[4 * a + b];
+    cl_kernel f = c->k_follow;
+    cl_int st = ARG(f, 0, c->x);
+    st |= ARG(f, 1, c->x_prev);
+    st |= ARG(f, 2, k->nv);
+    st |= ARG(f, 3, r[0]);
+    st |= ARG(f, 4, r[1]);
+    st |= ARG(f, 5, r[2]);
+    if (st != CL_SUCCESS)
+        return CL_INVALID_KERNEL_ARGS;
+    size_t global = (size_t)k->nv;
+    return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
 /* Twin of frame_travel in sim/solver_c.c: how far the fastest point would go this frame at its
@@ -304,6 +333,8 @@ static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     if (sim_cl_collide_set_body(&c->g, col, err, sizeof err) != 0)
         goto fail;
     st->feature_points_moved = 0;
+    if (follow(c, s) != CL_SUCCESS)
+        goto fail;
     int fp = s->body.have_prev && c->g.have_prev;
     if (fp && sim_cl_collide_feature_points(&c->g, c->x, c->x_prev, 0, k->nv, col->d.thickness_m,
                                             col->d.carry_coulomb ? col->d.friction : -1.0f) != 0)

@@ -100,6 +100,12 @@ struct sim {
     long frame;        /* body frames stepped */
     float energy_good; /* kinetic energy per kg of the last good frame, J/kg */
     float strain_good; /* max stretch strain of the last good frame */
+    /* The moving frame of this body frame (follow.c): x -> m x (3 x 4, row-major) applied to
+       the garment before the feature points when follow_on; follow_pq: 2 * num_attachments
+       points, the attachments in frames k-1 and k. */
+    float follow_m[12];
+    int follow_on;
+    double (*follow_pq)[3];
 };
 
 /* Solver constants and the reasons for them. */
@@ -112,6 +118,15 @@ struct sim {
 #define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
 #define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
 #define SIM_POST_ROUNDS         4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
+
+/* The moving frame (follow.c). sim_fit_rigid: the rigid motion x -> m x (3 x 4, row-major)
+ * that maps the n >= 3 points p onto q best in least squares, or that fraction (0..1) of it (the
+ * angle about the same axis, the centroid's way); 0, or -1 when none is defined.
+ * sim_follow_motion: s->follow_m and follow_on for this body frame, from the attachments.
+ * sim_follow: x and x_prev of vertices [begin, end) moved by m (twin: kernels/springs.cl). */
+int sim_fit_rigid(const double (*p)[3], const double (*q)[3], int n, double fraction, float m[12]);
+void sim_follow_motion(struct sim *s);
+void sim_follow(float (*x)[4], float (*x_prev)[4], int begin, int end, const float m[12]);
 
 /* C twins of the kernels (kernels/springs.cl): same names, same order of operations. Ranges
  * [begin, end) are vertices or springs; callers split them over threads. */

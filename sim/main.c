@@ -211,10 +211,13 @@ static int usage(void)
     fprintf(stderr,
             "usage: tryon-sim [--backend opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
+            "                 [--follow F]\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
             "          newest is simulated and the older ones are counted as superseded, so\n"
             "          latency stays one frame; all: every body, in order (replays, tests)\n"
-            "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n");
+            "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
+            "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
+            "          attachments given to the whole garment each frame; < 0: world frame\n");
     return 2;
 }
 
@@ -238,6 +241,8 @@ static int parse(app *a, int argc, char **argv)
             a->verts = atoi(v);
         else if (!strcmp(o, "--iterations"))
             a->desc.iterations = atoi(v);
+        else if (!strcmp(o, "--follow") && atof(v) <= 1.0)
+            a->desc.follow = (float)atof(v);
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))

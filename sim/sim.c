@@ -70,6 +70,7 @@ sim_desc sim_default_desc(void)
         .friction = 0.3f,
         .gravity_m_s2 = 9.81f,
         .strain_limit = 0.01f,
+        .follow = 1.0f,
         .max_body_vertices = 100000,
         .max_body_triangles = 200000,
     };
@@ -94,6 +95,7 @@ static sim_desc fill_defaults(const sim_desc *in)
     DEFAULT(friction);
     DEFAULT(gravity_m_s2);
     DEFAULT(strain_limit);
+    DEFAULT(follow);
     DEFAULT(max_body_vertices);
     DEFAULT(max_body_triangles);
 #undef DEFAULT
@@ -103,6 +105,8 @@ static sim_desc fill_defaults(const sim_desc *in)
         d.friction = 0.0f;
     if (d.gravity_m_s2 < 0.0f)
         d.gravity_m_s2 = 0.0f;
+    if (d.follow < 0.0f)
+        d.follow = 0.0f;
     return d;
 }
 
@@ -120,9 +124,11 @@ static int check_desc(const sim_desc *d, sim_reject *why)
                               "fabric density and stiffnesses must be "
                               "positive and finite");
     if (!(d->damping < 1.0f) || !isfinite(d->friction) || !isfinite(d->gravity_m_s2) ||
-        !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f))
+        !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f) ||
+        !(d->follow <= 1.0f))
         return sim_reject_set(why, SIM_ERR_PARAM,
-                              "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0 needed");
+                              "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0, "
+                              "follow <= 1 needed");
     if (d->backend != SIM_BACKEND_C && d->backend != SIM_BACKEND_OPENCL)
         return sim_reject_set(why, SIM_ERR_PARAM, "backend %d unknown", (int)d->backend);
     if (d->solver != SIM_SOLVER_TRYON && d->solver != SIM_SOLVER_SEED)
@@ -288,7 +294,8 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->x_prev_good = malloc((size_t)nv * sizeof *s->x_prev_good);
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
-    if (!s->x_good || !s->x_prev_good || !s->scratch || !s->tris3 ||
+    s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
+    if (!s->x_good || !s->x_prev_good || !s->scratch || !s->tris3 || !s->follow_pq ||
         body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
@@ -334,6 +341,7 @@ void sim_destroy(sim *s)
     free(s->x_prev_good);
     free(s->scratch);
     free(s->tris3);
+    free(s->follow_pq);
     free(s);
 }
 
@@ -420,6 +428,7 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
     body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
+    sim_follow_motion(s);
     return 0;
 }
 

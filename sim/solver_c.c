@@ -314,6 +314,8 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
 
     double t0 = now_ms();
     st->feature_points_moved = 0;
+    if (s->follow_on)
+        sim_follow(c->x, c->x_prev, 0, c->nv, s->follow_m);
     if (s->body.have_prev)
         st->feature_points_moved =
             sim_collider_feature_points(s->collider, c->x, c->x_prev, 0, c->nv);
