@@ -260,7 +260,7 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
         alpha.s[i] = k->k[i] > 0.0f ? 1.0f / (k->k[i] * dt * dt) : 1e30f;
     float limit = s->desc.strain_limit;
     /* contacts refreshed only while the cloth moves fast, as iterations_tryon decides */
-    int every = frame_travel(k, iters) > 0.5f * SIM_CONTACT_MARGIN ? SIM_CONTACT_EVERY : 0;
+    int every = frame_travel(k, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
     const sim_collider *col = s->collider;
     float radius = col->d.thickness_m + col->d.reach_m, h = col->d.thickness_m,
           mu = col->d.friction;

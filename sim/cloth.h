@@ -117,7 +117,11 @@ struct sim {
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
 #define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
-#define SIM_POST_ROUNDS         4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
+/* tryon: contacts are refreshed within a frame only when the fastest cloth point would travel
+   farther than this in the frame (the reach: nothing beyond it at the frame's search can be met
+   otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */
+#define SIM_REFRESH_TRAVEL SIM_CONTACT_MARGIN
+#define SIM_POST_ROUNDS    4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
 
 /* The moving frame (follow.c). sim_fit_rigid: the rigid motion x -> m x (3 x 4, row-major)
  * that maps the n >= 3 points p onto q best in least squares, or that fraction (0..1) of it (the
