@@ -244,9 +244,11 @@ __kernel void sim_iterations_tryon(
     __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
     __global const int *hier_level_start, __global const int *hier_vertex,
     __global const int *hier_parent_start, __global const int *hier_parent,
-    __global const float *hier_rest, int post_rounds)
+    __global const float *hier_rest, int post_rounds, int settle_tests, int settle_batch,
+    float settle_strain, __global int *settle_rounds)
 {
     int lid = get_local_id(0), L = get_local_size(0);
+    __local int settle_max;
     for (int it = 0; it < iters; it++) {
         int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
         for (int i = lid; i < nv; i += L) {
@@ -296,5 +298,45 @@ __kernel void sim_iterations_tryon(
             sim_post_end_one(x, x_prev, i);
             sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
         }
+    }
+    /* settle rounds (sim/solver_c.c settle_rounds): while the largest stretch strain is above
+       settle_strain, settle_batch more rounds of sweep, tethers and contacts; the maximum is the
+       same float as C's (non-negative floats order as their bits), so is the branch */
+    if (lid == 0)
+        *settle_rounds = 0;
+    int nstretch = color_start[num_stretch_colors];
+    for (int k = 0; k < settle_tests; k++) {
+        if (lid == 0)
+            settle_max = 0;
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+        float m = 0.0f;
+        for (int s = lid; s < nstretch; s += L) {
+            if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
+                continue;
+            float4 a = x[ends[s].x], b = x[ends[s].y];
+            float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
+            float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
+            if (!(e == e))
+                e = INFINITY;
+            if (e > m)
+                m = e;
+        }
+        atomic_max(&settle_max, as_int(m));
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (!(as_float(settle_max) > settle_strain))
+            break;
+        for (int j = 0; j < settle_batch; j++) {
+            for (int i = lid; i < nv; i += L)
+                sim_post_begin_one(x, x_prev, i);
+            barrier(CLK_GLOBAL_MEM_FENCE);
+            sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
+            for (int i = lid; i < nv; i += L) {
+                sim_tether_one(x, tether_anchor, tether_len, i, limit);
+                sim_post_end_one(x, x_prev, i);
+                sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
+            }
+        }
+        if (lid == 0)
+            *settle_rounds = (k + 1) * settle_batch;
     }
 }

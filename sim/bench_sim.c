@@ -15,7 +15,7 @@
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
-#define BENCH_REF_VERSION 2
+#define BENCH_REF_VERSION 3
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
@@ -383,12 +383,13 @@ static void write_csv(const char *path, const bench_run *r, int frames)
         return;
     }
     fprintf(f, "frame,ms,bvh,fp,contacts,iterations,metrics,max_strain,p99_strain,penetrating,"
-               "max_pen_mm,state\n");
+               "max_pen_mm,state,settle_rounds\n");
     for (int i = 0; i < frames; i++) {
         const sim_frame_stats *s = &r->st[i];
-        fprintf(f, "%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%d,%.2f,%d\n", i, r->ms[i],
+        fprintf(f, "%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.5f,%.5f,%d,%.2f,%d,%d\n", i, r->ms[i],
                 s->ms_bvh, s->ms_feature_points, s->ms_contacts, s->ms_iterations, s->ms_metrics,
-                s->max_strain, s->p99_strain, s->penetrating, s->max_pen_mm, (int)s->state);
+                s->max_strain, s->p99_strain, s->penetrating, s->max_pen_mm, (int)s->state,
+                s->settle_rounds);
     }
     fclose(f);
 }
@@ -416,7 +417,8 @@ int main(int argc, char **argv)
         r.ms[f] -= r.st[f].ms_metrics;
     float ms_nm = percentile(r.ms + warm, o.frames - warm, 0.5f);
     float max_strain = 0, p99 = 0, pen_mm = 0;
-    int pen = 0, recovered = 0, settle = o.frames > BENCH_SETTLE_FRAMES ? BENCH_SETTLE_FRAMES : 0;
+    int pen = 0, recovered = 0, settled = 0,
+        settle = o.frames > BENCH_SETTLE_FRAMES ? BENCH_SETTLE_FRAMES : 0;
     for (int f = 0; f < o.frames; f++) {
         const sim_frame_stats *s = &r.st[f];
         if (f >= settle) {
@@ -426,6 +428,7 @@ int main(int argc, char **argv)
         pen = s->penetrating > pen ? s->penetrating : pen;
         pen_mm = fmaxf(pen_mm, s->max_pen_mm);
         recovered += s->state == SIM_STATE_RECOVERED;
+        settled += s->settle_rounds > 0;
     }
     int nv_ref = r.nv;
     float *ref = o.no_ref ? NULL : reference(&o, o.ref_iterations, r.nsnap, &nv_ref, 1);
@@ -465,13 +468,13 @@ int main(int argc, char **argv)
            "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
            "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
-           "\"follow\":%g}\n",
+           "\"follow\":%g,\"settle_frames\":%d}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
-           follow);
+           follow, settled);
     run_free(&r);
     return 0;
 }

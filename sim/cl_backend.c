@@ -26,6 +26,7 @@ typedef struct cl_state {
     sim_cl_collide g;
     cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach, att_from, att_to;
     cl_mem hier_level_start, hier_vertex, hier_parent_start, hier_parent, hier_rest;
+    cl_mem settle; /* the settle rounds the last frame ran (1 int) */
     cl_kernel k_iter, k_attach, k_follow;
     size_t group;
     int32_t *moved;       /* host copy of the per-point flags */
@@ -56,6 +57,8 @@ static void cl_destroy(void *state)
         clReleaseMemObject(c->att_from);
     if (c->att_to)
         clReleaseMemObject(c->att_to);
+    if (c->settle)
+        clReleaseMemObject(c->settle);
     cl_mem ms[] = {c->x,           c->x_prev,           c->ends,        c->rest,
                    c->kind,        c->color_start,      c->anchor,      c->tlen,
                    c->attach,      c->hier_level_start, c->hier_vertex, c->hier_parent_start,
@@ -159,6 +162,8 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         c->att_from = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
     if (st == CL_SUCCESS)
         c->att_to = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
+    if (st == CL_SUCCESS)
+        c->settle = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, sizeof(cl_int), NULL, &st);
     if (st != CL_SUCCESS) {
         snprintf(err, err_size, "OpenCL backend: cloth buffers: %s", sim_cl_status_name(st));
         goto fail;
@@ -311,8 +316,14 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 40, c->hier_parent_start);
     st |= ARG(it, 41, c->hier_parent);
     st |= ARG(it, 42, c->hier_rest);
-    int rounds = SIM_POST_ROUNDS;
+    int rounds = SIM_POST_ROUNDS, tests = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH,
+        batch = SIM_SETTLE_BATCH;
+    float settle_strain = SIM_SETTLE_STRAIN;
     st |= ARG(it, 43, rounds);
+    st |= ARG(it, 44, tests);
+    st |= ARG(it, 45, batch);
+    st |= ARG(it, 46, settle_strain);
+    st |= ARG(it, 47, c->settle);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;
@@ -363,11 +374,15 @@ static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     double t2 = now_ms();
     st->ms_contacts = (float)(t2 - t1);
     size_t bytes = (size_t)k->nv * 16;
+    cl_int settled = 0;
     if (iterations(c, s, iters) != CL_SUCCESS ||
+        clEnqueueReadBuffer(c->cl.queue, c->settle, CL_FALSE, 0, sizeof settled, &settled, 0, NULL,
+                            NULL) ||
         clEnqueueReadBuffer(c->cl.queue, c->x, CL_FALSE, 0, bytes, k->x, 0, NULL, NULL) ||
         clEnqueueReadBuffer(c->cl.queue, c->x_prev, CL_TRUE, 0, bytes, k->x_prev, 0, NULL, NULL))
         goto fail;
     st->ms_iterations = (float)(now_ms() - t2);
+    st->settle_rounds = settled;
     return 0;
 fail:
     fprintf(stderr, "OpenCL backend: frame failed on %s: %s\n", c->cl.device_name, err);

@@ -122,6 +122,12 @@ struct sim {
    otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */
 #define SIM_REFRESH_TRAVEL SIM_CONTACT_MARGIN
 #define SIM_POST_ROUNDS    4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
+/* tryon: after those, more rounds, SIM_SETTLE_BATCH at a time and up to SIM_SETTLE_ROUNDS, while
+   the largest stretch strain is above SIM_SETTLE_STRAIN: frames where the body moved the cloth
+   fast (the walk, the swing) get them, a standing body none (docs/sim.md, "Settle rounds"). */
+#define SIM_SETTLE_STRAIN 0.02f
+#define SIM_SETTLE_ROUNDS 26
+#define SIM_SETTLE_BATCH  2
 
 /* The moving frame (follow.c). sim_fit_rigid: the rigid motion x -> m x (3 x 4, row-major)
  * that maps the n >= 3 points p onto q best in least squares, or that fraction (0..1) of it (the
@@ -164,6 +170,10 @@ void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *p
  * so the velocity x - x_prev survives them; pinned points (w = 0) untouched. */
 void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end);
 void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end);
+/* tryon: the largest strain (|xi - xj| - rest) / rest of the stretch springs in [begin, end), 0
+ * when none is stretched, infinity for a NaN (the settle rounds' test; twin in springs.cl). */
+float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                      const uint8_t *kind, int begin, int end);
 /* tryon: clamp stretch springs to rest * (1 + limit). */
 void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end, float limit);

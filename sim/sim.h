@@ -95,6 +95,7 @@ typedef struct sim_frame_stats {
     sim_state state;
     int retries;         /* recovery attempts this frame */
     int iterations_used; /* more than asked when recovering */
+    int settle_rounds;   /* tryon: strain rounds after the post-stabilisation (0 when settled) */
     float ms_total;
     float ms_bvh;
     float ms_feature_points;

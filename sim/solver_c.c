@@ -1,6 +1,8 @@
 /* The C reference backend: the per-frame work of both solver variants on the host, one OpenMP
  * team per frame, one worksharing loop per spring colour. */
 #include <math.h>
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +20,10 @@ typedef struct c_state {
     float (*att_to)[4];
     int32_t *att_order; /* attachments by vertex (place_attachments) */
     sim_phases phases;  /* the tryon iterations' passes (phases.h) */
+    /* per settle test of a frame: the largest stretch strain, as float bits (non-negative
+       floats order as their bits), maxed over the threads */
+    _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
+    int settle_rounds; /* run in the last frame */
     char name[64];
 } c_state;
 
@@ -146,7 +152,9 @@ static float frame_travel(const sim_cloth *c, int iters)
 static int tryon_phases(const sim_cloth *c, int iters)
 {
     int step = 2 + c->num_colors + c->num_stretch_colors;
-    return iters * step + 1 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1);
+    return iters * step + 1 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
+           SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH *
+               (1 + SIM_SETTLE_BATCH * (c->num_stretch_colors + 2));
 }
 
 /* One phase: springs [first, last) of one colour, XPBD (alpha) or the strain limit (!alpha). */
@@ -188,6 +196,41 @@ static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, f
     sim_phase_end(ph, cur, wake);
 }
 
+/* Settle rounds (cloth.h): the largest stretch strain measured by all, then, while it is above
+ * SIM_SETTLE_STRAIN, SIM_SETTLE_BATCH more rounds of the post-stabilisation (velocities kept,
+ * sweep, tethers, contacts). Every thread reads the same maximum after the phase, so all take the
+ * same branch. */
+static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
+                          float limit)
+{
+    sim_cloth *c = &s->cloth;
+    int nstretch = c->color_start[c->num_stretch_colors], b, e;
+    for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++) {
+        while (sim_phase_claim(ph, cur, nstretch, GRAIN_SPRINGS, &b, &e)) {
+            float m = sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e);
+            uint32_t bits, seen = atomic_load(&cs->settle[k]);
+            memcpy(&bits, &m, sizeof bits);
+            while (bits > seen && !atomic_compare_exchange_weak(&cs->settle[k], &seen, bits))
+                ;
+        }
+        sim_phase_end(ph, cur, 1);
+        uint32_t bits = atomic_load(&cs->settle[k]);
+        float m;
+        memcpy(&m, &bits, sizeof m);
+        if (!(m > SIM_SETTLE_STRAIN))
+            return;
+        for (int j = 0; j < SIM_SETTLE_BATCH; j++) {
+            while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e))
+                sim_post_begin(c->x, c->x_prev, b, e);
+            sim_phase_end(ph, cur, 0);
+            strain_limit_sweep(ph, cur, c, limit);
+            vertex_phase(s, ph, cur, limit, 1, 0, j + 1 == SIM_SETTLE_BATCH);
+        }
+        if (cur->thread == 0)
+            cs->settle_rounds = (k + 1) * SIM_SETTLE_BATCH;
+    }
+}
+
 static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
                              const float g[3])
 {
@@ -210,6 +253,9 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
     if (sim_phases_reset(&cs->phases, threads, tryon_phases(c, iters)) < 0)
         threads = 1, sim_phases_reset(&cs->phases, 1, 0);
     sim_phases *ph = &cs->phases;
+    for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++)
+        atomic_store(&cs->settle[k], 0u);
+    cs->settle_rounds = 0;
 #pragma omp parallel num_threads(threads)
     {
         sim_phase_cursor cur;
@@ -256,6 +302,7 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
             strain_limit_sweep(ph, &cur, c, limit);
             vertex_phase(s, ph, &cur, limit, 1, r + 1 < SIM_POST_ROUNDS, r + 1 == SIM_POST_ROUNDS);
         }
+        settle_rounds(s, cs, ph, &cur, limit);
     }
 }
 
@@ -338,6 +385,7 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
         double t2 = now_ms();
         st->ms_contacts = (float)(t2 - t1);
         iterations_tryon(s, cs, iters, dt, keep, g);
+        st->settle_rounds = cs->settle_rounds;
         st->ms_iterations = (float)(now_ms() - t2);
     }
     return 0;
