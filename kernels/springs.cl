@@ -245,7 +245,7 @@ __kernel void sim_iterations_tryon(
     __global const int *hier_level_start, __global const int *hier_vertex,
     __global const int *hier_parent_start, __global const int *hier_parent,
     __global const float *hier_rest, int post_rounds, int settle_tests, int settle_batch,
-    float settle_strain, __global int *settle_rounds)
+    float settle_progress, float settle_strain, __global int *settle_rounds)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     __local int settle_max;
@@ -281,10 +281,50 @@ __kernel void sim_iterations_tryon(
     }
     /* post-stabilisation (iterations_tryon): the hierarchy level by level, a strain-limit sweep,
        tethers, velocities kept, then the contacts; then post_rounds (SIM_POST_ROUNDS) more rounds
-       of sweep, tethers and contacts, the hierarchy only in the first (r = -1) */
-    for (int r = -1; r < post_rounds; r++) {
-        for (int i = lid; i < nv; i += L)
+       of sweep, tethers and contacts, the hierarchy only in the first (r = -1); then the settle
+       rounds (sim/solver_c.c settle_rounds): while the largest stretch strain is above
+       settle_strain, settle_batch more, up to settle_tests batches, and in a frame that does not
+       refresh its contacts only while each batch takes enough off it (settle_progress); a frame
+       that does searches them once more before the first. The maximum is the same float as C's
+       (non-negative floats order as their bits), so is the branch. */
+    if (lid == 0)
+        *settle_rounds = 0;
+    int nstretch = color_start[num_stretch_colors];
+    float prev = 0.0f;
+    for (int r = -1;; r++) {
+        int extra = r - post_rounds;
+        if (extra >= 0 && extra % settle_batch == 0) {
+            if (extra / settle_batch >= settle_tests)
+                break;
+            if (lid == 0)
+                settle_max = 0;
+            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+            float m = 0.0f;
+            for (int s = lid; s < nstretch; s += L) {
+                if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
+                    continue;
+                float4 a = x[ends[s].x], b = x[ends[s].y];
+                float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
+                float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
+                if (!(e == e))
+                    e = INFINITY;
+                if (e > m)
+                    m = e;
+            }
+            atomic_max(&settle_max, as_int(m));
+            barrier(CLK_LOCAL_MEM_FENCE);
+            float mx = as_float(settle_max);
+            if (!(mx > settle_strain) ||
+                (contact_every == 0 && extra > 0 && !(mx < settle_progress * prev)))
+                break;
+            prev = mx;
+        }
+        for (int i = lid; i < nv; i += L) {
+            if (extra == 0 && contact_every > 0)
+                contact[i] =
+                    sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
             sim_post_begin_one(x, x_prev, i);
+        }
         barrier(CLK_GLOBAL_MEM_FENCE);
         for (int l = 0; r < 0 && l < hier_levels; l++) {
             for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
@@ -298,45 +338,7 @@ __kernel void sim_iterations_tryon(
             sim_post_end_one(x, x_prev, i);
             sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
         }
-    }
-    /* settle rounds (sim/solver_c.c settle_rounds): while the largest stretch strain is above
-       settle_strain, settle_batch more rounds of sweep, tethers and contacts; the maximum is the
-       same float as C's (non-negative floats order as their bits), so is the branch */
-    if (lid == 0)
-        *settle_rounds = 0;
-    int nstretch = color_start[num_stretch_colors];
-    for (int k = 0; k < settle_tests; k++) {
-        if (lid == 0)
-            settle_max = 0;
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        float m = 0.0f;
-        for (int s = lid; s < nstretch; s += L) {
-            if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
-                continue;
-            float4 a = x[ends[s].x], b = x[ends[s].y];
-            float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
-            float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
-            if (!(e == e))
-                e = INFINITY;
-            if (e > m)
-                m = e;
-        }
-        atomic_max(&settle_max, as_int(m));
-        barrier(CLK_LOCAL_MEM_FENCE);
-        if (!(as_float(settle_max) > settle_strain))
-            break;
-        for (int j = 0; j < settle_batch; j++) {
-            for (int i = lid; i < nv; i += L)
-                sim_post_begin_one(x, x_prev, i);
-            barrier(CLK_GLOBAL_MEM_FENCE);
-            sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
-            for (int i = lid; i < nv; i += L) {
-                sim_tether_one(x, tether_anchor, tether_len, i, limit);
-                sim_post_end_one(x, x_prev, i);
-                sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
-            }
-        }
-        if (lid == 0)
-            *settle_rounds = (k + 1) * settle_batch;
+        if (lid == 0 && extra >= 0)
+            *settle_rounds = extra + 1;
     }
 }

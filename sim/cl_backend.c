@@ -318,12 +318,13 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 42, c->hier_rest);
     int rounds = SIM_POST_ROUNDS, tests = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH,
         batch = SIM_SETTLE_BATCH;
-    float settle_strain = SIM_SETTLE_STRAIN;
+    float settle_strain = SIM_SETTLE_STRAIN, settle_progress = SIM_SETTLE_PROGRESS;
     st |= ARG(it, 43, rounds);
     st |= ARG(it, 44, tests);
     st |= ARG(it, 45, batch);
-    st |= ARG(it, 46, settle_strain);
-    st |= ARG(it, 47, c->settle);
+    st |= ARG(it, 46, settle_progress);
+    st |= ARG(it, 47, settle_strain);
+    st |= ARG(it, 48, c->settle);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

@@ -157,6 +157,11 @@ void sim_follow_motion(struct sim *s)
             }
         }
     }
-    s->follow_on = sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, na,
-                                 (double)s->desc.follow, s->follow_m) == 0;
+    if (sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, na, (double)s->desc.follow,
+                      s->follow_m) != 0)
+        return;
+    /* a body standing still: nothing to move (the identity would leave the same bits) */
+    for (int k = 0; k < 12; k++)
+        if (s->follow_m[k] != (k % 5 == 0 ? 1.0f : 0.0f))
+            s->follow_on = 1;
 }

@@ -197,14 +197,15 @@ static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, f
 }
 
 /* Settle rounds (cloth.h): the largest stretch strain measured by all, then, while it is above
- * SIM_SETTLE_STRAIN, SIM_SETTLE_BATCH more rounds of the post-stabilisation (velocities kept,
- * sweep, tethers, contacts). Every thread reads the same maximum after the phase, so all take the
- * same branch. */
+ * SIM_SETTLE_STRAIN and the last batch took enough off it, SIM_SETTLE_BATCH more rounds of the
+ * post-stabilisation (velocities kept, sweep, tethers, contacts). Every thread reads the same
+ * maximum after the phase, so all take the same branch. */
 static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
-                          float limit)
+                          float limit, int refresh)
 {
     sim_cloth *c = &s->cloth;
     int nstretch = c->color_start[c->num_stretch_colors], b, e;
+    float prev = 0.0f;
     for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++) {
         while (sim_phase_claim(ph, cur, nstretch, GRAIN_SPRINGS, &b, &e)) {
             float m = sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e);
@@ -217,11 +218,17 @@ static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_
         uint32_t bits = atomic_load(&cs->settle[k]);
         float m;
         memcpy(&m, &bits, sizeof m);
-        if (!(m > SIM_SETTLE_STRAIN))
+        if (!(m > SIM_SETTLE_STRAIN) || (!refresh && k > 0 && !(m < SIM_SETTLE_PROGRESS * prev)))
             return;
+        prev = m;
         for (int j = 0; j < SIM_SETTLE_BATCH; j++) {
-            while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e))
+            while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+                /* a frame fast enough to refresh its contacts in the steps moves far in these
+                   rounds too (a sheet landing on a sphere: cm): once more before them */
+                if (refresh && k == 0 && j == 0)
+                    sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
                 sim_post_begin(c->x, c->x_prev, b, e);
+            }
             sim_phase_end(ph, cur, 0);
             strain_limit_sweep(ph, cur, c, limit);
             vertex_phase(s, ph, cur, limit, 1, 0, j + 1 == SIM_SETTLE_BATCH);
@@ -302,7 +309,7 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
             strain_limit_sweep(ph, &cur, c, limit);
             vertex_phase(s, ph, &cur, limit, 1, r + 1 < SIM_POST_ROUNDS, r + 1 == SIM_POST_ROUNDS);
         }
-        settle_rounds(s, cs, ph, &cur, limit);
+        settle_rounds(s, cs, ph, &cur, limit, refresh);
     }
 }
 
