@@ -58,6 +58,7 @@ sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t 
     c->tris = malloc(nt * sizeof *c->tris);
     c->n = malloc(nt * sizeof *c->n);
     c->n_prev = malloc(nt * sizeof *c->n_prev);
+    c->n_next = malloc(nt * sizeof *c->n_next);
     c->nbr = malloc(nt * sizeof *c->nbr);
     c->vt_start = malloc((nv + 1) * sizeof *c->vt_start);
     c->vt_list = malloc(3 * nt * sizeof *c->vt_list);
@@ -65,8 +66,8 @@ sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t 
     c->vn = malloc(nv * sizeof *c->vn);
     c->vn_stamp = malloc(nv * sizeof *c->vn_stamp);
     c->share = aligned_alloc(_Alignof(sim_contact_slot), SIM_SHARE_SLOTS * sizeof *c->share);
-    if (!c->v || !c->v_prev || !c->tris || !c->n || !c->n_prev || !c->nbr || !c->vt_start ||
-        !c->vt_list || !c->edge_scratch || !c->vn || !c->vn_stamp || !c->share)
+    if (!c->v || !c->v_prev || !c->tris || !c->n || !c->n_prev || !c->n_next || !c->nbr ||
+        !c->vt_start || !c->vt_list || !c->edge_scratch || !c->vn || !c->vn_stamp || !c->share)
         goto nomem;
     for (size_t i = 0; i < nv; i++)
         atomic_init(&c->vn_stamp[i], -1);
@@ -97,6 +98,7 @@ void sim_collider_destroy(sim_collider *c)
     free(c->tris);
     free(c->n);
     free(c->n_prev);
+    free(c->n_next);
     free(c->nbr);
     free(c->vt_start);
     free(c->vt_list);
@@ -223,9 +225,10 @@ int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3]
     return SIM_REGION_FACE;
 }
 
-/* Reject a body before touching the collider: the caller keeps the last good one. */
-static int validate_body(const sim_collider *c, const float *xyz, int nv, const int32_t *tris,
-                         int nt)
+/* Reject a body before touching the collider: the caller keeps the last good one. The area test
+   has each triangle's cross product: its unit face normal goes to n_next (as the frame's normals,
+   once the body is accepted). */
+static int validate_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt)
 {
     if (!xyz || !tris || nv < 0 || nt < 0)
         return SIM_COLLIDE_EARG;
@@ -247,8 +250,12 @@ static int validate_body(const sim_collider *c, const float *xyz, int nv, const 
         sim_v3_sub(xyz + 3 * f[1], xyz + 3 * f[0], e1);
         sim_v3_sub(xyz + 3 * f[2], xyz + 3 * f[0], e2);
         sim_v3_cross(e1, e2, cr);
-        if (!(sqrtf(sim_v3_dot(cr, cr)) > DEGENERATE_2AREA_M2))
+        float len = sqrtf(sim_v3_dot(cr, cr));
+        if (!(len > DEGENERATE_2AREA_M2))
             return SIM_COLLIDE_EDEGENERATE;
+        for (int k = 0; k < 3; k++)
+            c->n_next[t][k] = cr[k] / len;
+        c->n_next[t][3] = 0.0f;
     }
     return 0;
 }
@@ -295,21 +302,6 @@ static void build_adjacency(sim_collider *c)
     c->vt_start[0] = 0;
 }
 
-static void face_normals(sim_collider *c)
-{
-#pragma omp parallel for schedule(static)
-    for (int t = 0; t < c->nt; t++) {
-        float e1[3], e2[3], nr[3];
-        sim_v3_sub(c->v[c->tris[t][1]], c->v[c->tris[t][0]], e1);
-        sim_v3_sub(c->v[c->tris[t][2]], c->v[c->tris[t][0]], e2);
-        sim_v3_cross(e1, e2, nr);
-        float len = sqrtf(sim_v3_dot(nr, nr));
-        for (int k = 0; k < 3; k++)
-            c->n[t][k] = nr[k] / len;
-        c->n[t][3] = 0.0f;
-    }
-}
-
 static int same_topology(const sim_collider *c, int nv, const int32_t *tris, int nt)
 {
     if (c->nt != nt || c->nv != nv)
@@ -334,14 +326,18 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         (c->body_epoch + 1) & 0x3fffffff; /* voids every quiet radius (sim_collider_resolve) */
     for (int i = 0; i < c->max_cloth; i++)
         c->clear[i][3] = 0.0f; /* the bounds were for the old body frame */
+    /* the validation's normals become frame k's (k's become k-1's on the same topology) */
+    float(*tn)[4] = c->n_next;
     if (same) {
         float(*tv)[4] = c->v_prev;
         c->v_prev = c->v;
         c->v = tv;
-        float(*tn)[4] = c->n_prev;
+        c->n_next = c->n_prev;
         c->n_prev = c->n;
-        c->n = tn;
+    } else {
+        c->n_next = c->n;
     }
+    c->n = tn;
     for (int i = 0; i < nv; i++) {
         c->v[i][0] = xyz[3 * i];
         c->v[i][1] = xyz[3 * i + 1];
@@ -349,7 +345,6 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         c->v[i][3] = 0.0f;
     }
     if (same) {
-        face_normals(c);
         sim_bvh_refit(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
                       (const int32_t(*)[4])c->tris, c->d.thickness_m);
         c->have_prev = 1;
@@ -364,7 +359,6 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         c->tris[t][3] = 0;
     }
     memcpy(c->v_prev, c->v, (size_t)nv * sizeof *c->v);
-    face_normals(c);
     memcpy(c->n_prev, c->n, (size_t)nt * sizeof *c->n);
     build_adjacency(c);
     sim_bvh_build(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,

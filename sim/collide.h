@@ -247,6 +247,7 @@ struct sim_collider {
     float (*v)[4], (*v_prev)[4];
     int32_t (*tris)[4];
     float (*n)[4], (*n_prev)[4]; /* unit face normals, frames k and k-1 */
+    float (*n_next)[4];          /* the next frame's, written by its validation */
     int32_t (*nbr)[4];           /* triangle across edge i (i to i+1), -1 on an open edge */
     int32_t *vt_start, *vt_list; /* vertex -> incident triangles (CSR) for pseudo-normals */
     void *edge_scratch;          /* topology build only */
