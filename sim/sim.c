@@ -192,12 +192,16 @@ static void body_store(sim_body *b, const float *xyz, int nv, const int32_t *tri
         b->v[i][3] = 0.0f;
     }
     b->have_prev = same;
-    b->max_move_m = 0.0f;
+    float m2 = 0.0f; /* the largest squared move (the body is finite: no NaN to order) */
     for (int i = 0; same && i < nv; i++) {
         float dx = b->v[i][0] - b->v_prev[i][0], dy = b->v[i][1] - b->v_prev[i][1],
               dz = b->v[i][2] - b->v_prev[i][2];
-        b->max_move_m = fmaxf(b->max_move_m, sqrtf(dx * dx + dy * dy + dz * dz));
+        float d2 = dx * dx + dy * dy + dz * dz;
+        m2 = d2 > m2 ? d2 : m2;
     }
+    b->max_move_m = sqrtf(m2);
+    if (same)
+        return; /* the same triangles */
     b->nv = nv;
     b->nt = nt;
     for (int t = 0; t < nt; t++)
