@@ -175,7 +175,8 @@ void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *p
 void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end);
 void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end);
 /* tryon: the largest strain (|xi - xj| - rest) / rest of the stretch springs in [begin, end), 0
- * when none is stretched, infinity for a NaN (the settle rounds' test; twin in springs.cl). */
+ * when none is stretched, infinity for a NaN (the settle rounds' test, metrics.c; twin in
+ * springs.cl). */
 float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end);
 /* tryon: clamp stretch springs to rest * (1 + limit). */

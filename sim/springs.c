@@ -470,24 +470,6 @@ void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end)
                 x_prev[i][d] += x[i][d];
 }
 
-float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float *rest,
-                      const uint8_t *kind, int begin, int end)
-{
-    float mx = 0.0f;
-    for (int s = begin; s < end; s++) {
-        if (kind[s] != SIM_SPRING_STRETCH || !(rest[s] > 0.0f))
-            continue;
-        const float *a = x[ends[s][0]], *b = x[ends[s][1]];
-        float dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
-        float e = (sqrtf(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
-        if (!(e == e))
-            e = INFINITY;
-        if (e > mx)
-            mx = e;
-    }
-    return mx;
-}
-
 /* Long-range attachments (Kim, Tessendorf, Thuerey 2012): a unilateral constraint from each free
  * vertex to its nearest attached vertex. Only the free end moves, so vertices are independent and
  * the pass needs no colouring. It carries the weight of a hanging garment in one step where
