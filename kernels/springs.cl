@@ -96,6 +96,43 @@ void sim_strain_hierarchy_one(__global float4 *x, __global const int *vertex,
         sim_pull_within(x, i, parent[k], rest[k] * (1.0f + limit));
 }
 
+/* The support hierarchy (sim/solver_c.c support_hierarchy, sim/springs.c sim_support_levels and
+   sim_support_pull), for a garment without attachments. How squarely the body holds vertex i up
+   (sim_collider_resting): its contact face's +y when it lies within h + tol of that face, else
+   -2 (SIM_NOT_RESTING). */
+float sim_resting_one(__global const float4 *x, int i, __global const int *contact,
+                      __global const float4 *v, __global const int4 *tris,
+                      __global const float4 *nrm, float h, float tol)
+{
+    int t = contact[i], region;
+    if (t < 0)
+        return -2.0f;
+    float r = h + tol;
+    return sim_tri_dist2(v, tris, t, x[i], &region) <= r * r ? nrm[t].y : -2.0f;
+}
+
+/* Floats as ints in the same order (-0 taken as +0, as C's comparison takes it). */
+int sim_float_order(float f)
+{
+    int k = as_int(f == 0.0f ? 0.0f : f);
+    return k < 0 ? k ^ 0x7fffffff : k;
+}
+
+/* sim_support_pull: vertex i to within the limit of its stretch neighbours one level nearer. */
+void sim_support_pull_one(__global float4 *x, __global const int2 *ends, __global const float *rest,
+                          __global const int *adj_start, __global const int *adj_spring,
+                          __global const int *level, int i, float limit)
+{
+    if (x[i].w == 0.0f)
+        return;
+    for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
+        int s = adj_spring[k];
+        int u = ends[s].x == i ? ends[s].y : ends[s].x;
+        if (level[u] == level[i] - 1)
+            sim_pull_within(x, i, u, rest[s] * (1.0f + limit));
+    }
+}
+
 /* Post-stabilisation brackets (sim_post_begin / sim_post_end): x_prev -= x, then += x. */
 void sim_post_begin_one(__global const float4 *x, __global float4 *x_prev, int i)
 {
@@ -245,10 +282,12 @@ __kernel void sim_iterations_tryon(
     __global const int *hier_level_start, __global const int *hier_vertex,
     __global const int *hier_parent_start, __global const int *hier_parent,
     __global const float *hier_rest, int post_rounds, int settle_tests, int settle_batch,
-    float settle_progress, float settle_strain, __global int *settle_rounds)
+    float settle_progress, float settle_strain, __global int *settle_rounds, int support,
+    __global const int *adj_start, __global const int *adj_spring, __global int *level,
+    __global int *front, float rest_tol)
 {
     int lid = get_local_id(0), L = get_local_size(0);
-    __local int settle_max;
+    __local int settle_max, support_key, support_root, support_count;
     for (int it = 0; it < iters; it++) {
         int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
         for (int i = lid; i < nv; i += L) {
@@ -331,6 +370,57 @@ __kernel void sim_iterations_tryon(
                 sim_strain_hierarchy_one(x, hier_vertex, hier_parent_start, hier_parent, hier_rest,
                                          e, limit);
             barrier(CLK_GLOBAL_MEM_FENCE);
+        }
+        /* the support hierarchy (sim/solver_c.c support_hierarchy): the root, the largest
+           sim_resting_one (the lowest index among equals), then breadth first from it, each new
+           level's vertices claimed by compare-and-swap on their level (so the levels are C's,
+           whatever the order) and pulled once all are known: a vertex reads only its parents,
+           final a level before. front: two lists of nv vertices. */
+        if (r < 0 && support) {
+            if (lid == 0) {
+                support_key = INT_MIN;
+                support_root = INT_MAX;
+            }
+            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+            for (int i = lid; i < nv; i += L) {
+                level[i] = -1;
+                float up = sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol);
+                if (up > -2.0f)
+                    atomic_max(&support_key, sim_float_order(up));
+            }
+            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+            for (int i = lid; i < nv; i += L) {
+                float up = sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol);
+                if (up > -2.0f && sim_float_order(up) == support_key)
+                    atomic_min(&support_root, i);
+            }
+            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+            int root = support_root, n = root == INT_MAX ? 0 : 1;
+            if (lid == 0 && n) {
+                level[root] = 0;
+                front[0] = root;
+            }
+            for (int l = 0; n > 0; l++) {
+                __global int *cur = front + (l & 1) * nv, *next = front + (~l & 1) * nv;
+                if (lid == 0)
+                    support_count = 0;
+                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                for (int f = lid; f < n; f += L) {
+                    int i = cur[f];
+                    for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
+                        int sp = adj_spring[k];
+                        int u = ends[sp].x == i ? ends[sp].y : ends[sp].x;
+                        if (atomic_cmpxchg((volatile __global int *)&level[u], -1, l + 1) == -1)
+                            next[atomic_inc(&support_count)] = u;
+                    }
+                }
+                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                n = support_count;
+                for (int f = lid; f < n; f += L)
+                    sim_support_pull_one(x, ends, rest, adj_start, adj_spring, level, next[f],
+                                         limit);
+                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+            }
         }
         sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
         for (int i = lid; i < nv; i += L) {

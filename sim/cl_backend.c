@@ -27,6 +27,8 @@ typedef struct cl_state {
     cl_mem x, x_prev, ends, rest, kind, color_start, anchor, tlen, attach, att_from, att_to;
     cl_mem hier_level_start, hier_vertex, hier_parent_start, hier_parent, hier_rest;
     cl_mem settle; /* the settle rounds the last frame ran (1 int) */
+    /* the support hierarchy: stretch springs by vertex (CSR), level per vertex, two lists of nv */
+    cl_mem adj_start, adj_spring, level, front;
     cl_kernel k_iter, k_attach, k_follow;
     size_t group;
     int32_t *moved;       /* host copy of the per-point flags */
@@ -59,6 +61,10 @@ static void cl_destroy(void *state)
         clReleaseMemObject(c->att_to);
     if (c->settle)
         clReleaseMemObject(c->settle);
+    cl_mem support[] = {c->adj_start, c->adj_spring, c->level, c->front};
+    for (size_t i = 0; i < sizeof support / sizeof support[0]; i++)
+        if (support[i])
+            clReleaseMemObject(support[i]);
     cl_mem ms[] = {c->x,           c->x_prev,           c->ends,        c->rest,
                    c->kind,        c->color_start,      c->anchor,      c->tlen,
                    c->attach,      c->hier_level_start, c->hier_vertex, c->hier_parent_start,
@@ -157,6 +163,12 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
     c->hier_parent =
         const_buffer(&c->cl, (size_t)k->hier_parent_start[nh] * 4, k->hier_parent, &st);
     c->hier_rest = const_buffer(&c->cl, (size_t)k->hier_parent_start[nh] * 4, k->hier_rest, &st);
+    c->adj_start = const_buffer(&c->cl, (nv + 1) * 4, k->adj_start, &st);
+    c->adj_spring = const_buffer(&c->cl, (size_t)k->adj_start[nv] * 4, k->adj_spring, &st);
+    if (st == CL_SUCCESS)
+        c->level = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, nv * 4, NULL, &st);
+    if (st == CL_SUCCESS)
+        c->front = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, 2 * nv * 4, NULL, &st);
     size_t na = k->num_attachments > 0 ? (size_t)k->num_attachments : 1;
     if (st == CL_SUCCESS)
         c->att_from = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
@@ -325,6 +337,14 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 46, settle_progress);
     st |= ARG(it, 47, settle_strain);
     st |= ARG(it, 48, c->settle);
+    int support = s->desc.support && k->num_attachments == 0;
+    float rest_tol = SIM_REST_TOL_M;
+    st |= ARG(it, 49, support);
+    st |= ARG(it, 50, c->adj_start);
+    st |= ARG(it, 51, c->adj_spring);
+    st |= ARG(it, 52, c->level);
+    st |= ARG(it, 53, c->front);
+    st |= ARG(it, 54, rest_tol);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

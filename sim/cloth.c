@@ -443,6 +443,8 @@ int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_
     r = build_tethers(c);
     if (r == 0)
         r = build_hierarchy(c);
+    if (r == 0)
+        r = stretch_springs_by_vertex(c, &c->adj_start, &c->adj_spring);
     if (r != 0)
         sim_cloth_free(c);
     return r;
@@ -466,5 +468,7 @@ void sim_cloth_free(sim_cloth *c)
     free(c->hier_parent_start);
     free(c->hier_parent);
     free(c->hier_rest);
+    free(c->adj_start);
+    free(c->adj_spring);
     memset(c, 0, sizeof *c);
 }

@@ -49,6 +49,10 @@ typedef struct sim_cloth {
     int32_t *hier_parent_start;
     int32_t *hier_parent;
     float *hier_rest;
+    /* The stretch springs of each vertex (CSR, spring indices in ascending order): vertex v's are
+     * adj_spring[adj_start[v] .. adj_start[v + 1]). The support hierarchy walks them. */
+    int32_t *adj_start;
+    int32_t *adj_spring;
 } sim_cloth;
 
 /* The body as the driver keeps it: frame k and k-1. */
@@ -121,7 +125,10 @@ struct sim {
    farther than this in the frame (the reach: nothing beyond it at the frame's search can be met
    otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */
 #define SIM_REFRESH_TRAVEL SIM_CONTACT_MARGIN
-#define SIM_POST_ROUNDS    4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
+/* tryon: a vertex within this of the thickness from its contact triangle rests on the body (the
+   response leaves it at the thickness; a millimetre covers the strain passes' moves since) */
+#define SIM_REST_TOL_M  0.001f
+#define SIM_POST_ROUNDS 4 /* tryon: (strain sweep, tethers, contacts) after the hierarchy */
 /* tryon: after those, more rounds, SIM_SETTLE_BATCH at a time and up to SIM_SETTLE_ROUNDS, while
    the largest stretch strain is above SIM_SETTLE_STRAIN: frames where the body moved the cloth
    fast (the walk, the swing) get them, a standing body none (docs/sim.md, "Settle rounds"). */
@@ -170,6 +177,16 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
 void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *parent_start,
                           const int32_t *parent, const float *rest, int begin, int end,
                           float limit);
+/* tryon: the support hierarchy, for garments without attachments (docs/sim.md): the strain-limit
+ * hierarchy rooted, each frame, at the one vertex the body holds up most squarely (the root: the
+ * resting vertex whose contact faces most nearly up, the lowest index among equals).
+ * sim_support_levels: level[v] = hops over stretch springs from the root, -1 where it does not
+ * reach (or no root, root < 0); queue receives the vertices reached but the root in breadth-first
+ * order; returns how many. sim_support_pull: vertex v (not pinned) moved alone to within
+ * rest (1 + limit) of each stretch neighbour one level nearer the root, in adjacency order.
+ * Twins: the support block of sim_iterations_tryon (kernels/springs.cl). */
+int sim_support_levels(const sim_cloth *c, int root, int32_t *level, int32_t *queue);
+void sim_support_pull(float (*x)[4], const sim_cloth *c, const int32_t *level, int v, float limit);
 /* tryon, post-stabilisation: x_prev -= x before position-only corrections, x_prev += x after,
  * so the velocity x - x_prev survives them; pinned points (w = 0) untouched. */
 void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end);

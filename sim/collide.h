@@ -99,6 +99,12 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
 void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
                           int end);
 
+/* How squarely the body holds point i at p up: the upward (+y) component of its cached triangle's
+   face normal when p lies within thickness + tol_m of that triangle (closest-point distance), or
+   SIM_NOT_RESTING when it has none or lies farther (the support hierarchy's root). */
+#define SIM_NOT_RESTING (-2.0f)
+float sim_collider_resting(const sim_collider *c, int i, const float p[3], float tol_m);
+
 /* Metric: how many of the n points lie more than tol_m inside the body (signed distance with
    angle-weighted pseudo-normals) and the deepest one (metres, >= 0). Returns 0 or an error. */
 int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,

@@ -157,3 +157,15 @@ void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[
         c->quiet_key[i][1] = c->body_epoch;
     }
 }
+
+float sim_collider_resting(const sim_collider *c, int i, const float p[3], float tol_m)
+{
+    int t = i < c->max_cloth ? c->contact[i] : -1;
+    if (t < 0)
+        return SIM_NOT_RESTING;
+    const int32_t *f = c->tris[t];
+    float q[3], bary[3], d[3], r = c->d.thickness_m + tol_m;
+    sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    sim_v3_sub(p, q, d);
+    return sim_v3_dot(d, d) <= r * r ? c->n[t][1] : SIM_NOT_RESTING;
+}

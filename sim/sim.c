@@ -71,6 +71,7 @@ sim_desc sim_default_desc(void)
         .gravity_m_s2 = 9.81f,
         .strain_limit = 0.01f,
         .follow = 1.0f,
+        .support = 1,
         .max_body_vertices = 100000,
         .max_body_triangles = 200000,
     };
@@ -96,6 +97,7 @@ static sim_desc fill_defaults(const sim_desc *in)
     DEFAULT(gravity_m_s2);
     DEFAULT(strain_limit);
     DEFAULT(follow);
+    DEFAULT(support);
     DEFAULT(max_body_vertices);
     DEFAULT(max_body_triangles);
 #undef DEFAULT
@@ -107,6 +109,8 @@ static sim_desc fill_defaults(const sim_desc *in)
         d.gravity_m_s2 = 0.0f;
     if (d.follow < 0.0f)
         d.follow = 0.0f;
+    if (d.support < 0)
+        d.support = 0;
     return d;
 }
 

@@ -72,6 +72,10 @@ typedef struct sim_desc {
      * with the body part the garment hangs from; docs/sim.md); 0 = 1; < 0 = none (world frame).
      * The seed solver always simulates in the world frame. */
     float follow;
+    /* tryon solver, garments without attachments: the support hierarchy, the strain limit
+     * propagated in one pass outward from the vertex the body holds up (docs/sim.md); 0 = on;
+     * < 0 = off. Garments with attachments propagate from those, always. */
+    int support;
     int max_body_vertices;  /* 0 = 100000 */
     int max_body_triangles; /* 0 = 200000 */
 } sim_desc;

@@ -24,6 +24,12 @@ typedef struct c_state {
        floats order as their bits), maxed over the threads */
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
+    /* the support hierarchy (cloth.h), per vertex: how squarely the body holds it up, its level,
+       and the vertices in breadth-first order; how many the last frame's reached */
+    float *rest_up;
+    int32_t *level;
+    int32_t *queue;
+    int support_reached;
     char name[64];
 } c_state;
 
@@ -43,6 +49,9 @@ static void c_destroy(void *state)
     free(c->att_from);
     free(c->att_to);
     free(c->att_order);
+    free(c->rest_up);
+    free(c->level);
+    free(c->queue);
     sim_phases_free(&c->phases);
     free(c);
 }
@@ -56,9 +65,13 @@ static int c_create(struct sim *s, void **state, char *err, size_t err_size)
         c->att_from = calloc((size_t)na, sizeof *c->att_from);
         c->att_to = calloc((size_t)na, sizeof *c->att_to);
         c->att_order = calloc((size_t)na, sizeof *c->att_order);
+        c->rest_up = calloc((size_t)s->cloth.nv + 1, sizeof *c->rest_up);
+        c->level = calloc((size_t)s->cloth.nv + 1, sizeof *c->level);
+        c->queue = calloc((size_t)s->cloth.nv + 1, sizeof *c->queue);
         sim_phases_init(&c->phases);
     }
-    if (!c || !c->acc || !c->att_from || !c->att_to || !c->att_order) {
+    if (!c || !c->acc || !c->att_from || !c->att_to || !c->att_order || !c->rest_up || !c->level ||
+        !c->queue) {
         snprintf(err, err_size, "C backend: out of memory for %d vertices", s->cloth.nv);
         c_destroy(c);
         return -SIM_ERR_NO_MEMORY;
@@ -152,7 +165,7 @@ static float frame_travel(const sim_cloth *c, int iters)
 static int tryon_phases(const sim_cloth *c, int iters)
 {
     int step = 2 + c->num_colors + c->num_stretch_colors;
-    return iters * step + 1 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
+    return iters * step + 3 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
            SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH *
                (1 + SIM_SETTLE_BATCH * (c->num_stretch_colors + 2));
 }
@@ -194,6 +207,32 @@ static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, f
             sim_post_begin(c->x, c->x_prev, b, e);
     }
     sim_phase_end(ph, cur, wake);
+}
+
+/* The support hierarchy (cloth.h), for a garment without attachments: how squarely the body
+ * holds each vertex up (all threads), then one thread picks the root, walks the levels from it and
+ * pulls each vertex to within the limit of its parents, level by level (positions only: inside the
+ * post-stabilisation's bracket). */
+static void support_hierarchy(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
+                              float limit)
+{
+    sim_cloth *c = &s->cloth;
+    int b, e;
+    while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e))
+        for (int i = b; i < e; i++)
+            cs->rest_up[i] = sim_collider_resting(s->collider, i, c->x[i], SIM_REST_TOL_M);
+    sim_phase_end(ph, cur, 0);
+    while (sim_phase_claim(ph, cur, 1, 1, &b, &e)) {
+        int root = -1;
+        float best = SIM_NOT_RESTING;
+        for (int i = 0; i < c->nv; i++)
+            if (cs->rest_up[i] > best)
+                best = cs->rest_up[i], root = i;
+        cs->support_reached = sim_support_levels(c, root, cs->level, cs->queue);
+        for (int q = 0; q < cs->support_reached; q++)
+            sim_support_pull(c->x, c, cs->level, cs->queue[q], limit);
+    }
+    sim_phase_end(ph, cur, 0);
 }
 
 /* Settle rounds (cloth.h): the largest stretch strain measured by all, then, while it is above
@@ -246,6 +285,7 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
     for (int k = 0; k < SIM_SPRING_KINDS; k++)
         alpha[k] = c->k[k] > 0.0f ? 1.0f / (c->k[k] * dt * dt) : 1e30f;
     float limit = s->desc.strain_limit;
+    int support = s->desc.support && c->num_attachments == 0;
     /* contacts are cached at the start of the frame; when the cloth itself moves fast (a
      * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are
      * refreshed every few steps: reach / (steps * dt) is the fastest a point may approach the
@@ -306,6 +346,8 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
                                          limit);
                 sim_phase_end(ph, &cur, 0);
             }
+            if (r < 0 && support)
+                support_hierarchy(s, cs, ph, &cur, limit);
             strain_limit_sweep(ph, &cur, c, limit);
             vertex_phase(s, ph, &cur, limit, 1, r + 1 < SIM_POST_ROUNDS, r + 1 == SIM_POST_ROUNDS);
         }

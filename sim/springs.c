@@ -454,6 +454,44 @@ void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *p
     }
 }
 
+int sim_support_levels(const sim_cloth *c, int root, int32_t *level, int32_t *queue)
+{
+    for (int v = 0; v < c->nv; v++)
+        level[v] = -1;
+    if (root < 0 || root >= c->nv)
+        return 0;
+    level[root] = 0;
+    queue[0] = root;
+    int head = 0, tail = 1;
+    while (head < tail) {
+        int v = queue[head++];
+        for (int k = c->adj_start[v]; k < c->adj_start[v + 1]; k++) {
+            const int32_t *e = c->ends[c->adj_spring[k]];
+            int u = e[0] == v ? e[1] : e[0];
+            if (level[u] < 0) {
+                level[u] = level[v] + 1;
+                queue[tail++] = u;
+            }
+        }
+    }
+    memmove(queue, queue + 1, (size_t)(tail - 1) * sizeof *queue);
+    return tail - 1;
+}
+
+/* The support hierarchy's pass for one vertex: as sim_strain_hierarchy, its parents being its
+ * stretch neighbours one level nearer the root. */
+void sim_support_pull(float (*x)[4], const sim_cloth *c, const int32_t *level, int v, float limit)
+{
+    if (x[v][3] == 0.0f)
+        return;
+    for (int k = c->adj_start[v]; k < c->adj_start[v + 1]; k++) {
+        int s = c->adj_spring[k];
+        int u = c->ends[s][0] == v ? c->ends[s][1] : c->ends[s][0];
+        if (level[u] == level[v] - 1)
+            pull_within(x[v], x[u], c->rest[s] * (1.0f + limit));
+    }
+}
+
 void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end)
 {
     for (int i = begin; i < end; i++)
