@@ -15,7 +15,7 @@
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
-#define BENCH_REF_VERSION 4
+#define BENCH_REF_VERSION 5
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
@@ -34,17 +34,19 @@ typedef struct bench_run {
 
 static void usage(void)
 {
-    fprintf(stderr,
-            "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
-            "[--frames F]\n"
-            "         [--body-verts N (body model, 0 = its default)]\n"
-            "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
-            "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
-            "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
-            "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
-            "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
-            "                 in all and per motion (each computed once into the cache)\n",
-            BENCH_REF_ITERATIONS);
+    fprintf(
+        stderr,
+        "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
+        "[--frames F]\n"
+        "         [--body-verts N (body model, 0 = its default)]\n"
+        "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
+        "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
+        "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
+        "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
+        "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
+        "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
+        "                 in all and per motion (each computed once into the cache)\n",
+        BENCH_REF_ITERATIONS);
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -88,6 +90,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.fabric.stretch_n_m = (float)atof(v);
         else if (strcmp(a, "--follow") == 0)
             o->desc.follow = (float)atof(v);
+        else if (strcmp(a, "--support") == 0)
+            o->desc.support = atoi(v);
         else if (strcmp(a, "--bend") == 0)
             o->desc.fabric.bend_n_m = (float)atof(v);
         else if (strcmp(a, "--backend") == 0 && (!strcmp(v, "c") || !strcmp(v, "opencl")))
@@ -260,6 +264,7 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
     d.solver = SIM_SOLVER_TRYON;
     d.iterations = iters;
     d.follow = -1.0f; /* the world frame: the physics without the moving frame's shortcut */
+    d.support = 0;    /* and the same reference whether or not the run has the support pass */
     bench_run rr = {0};
     if (run(o, &d, 0, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
         run_free(&rr);
@@ -462,19 +467,22 @@ int main(int argc, char **argv)
     float follow = o.desc.follow == 0.0f ? 1.0f : fmaxf(o.desc.follow, 0.0f);
     if (o.desc.solver == SIM_SOLVER_SEED || strcmp(o.scene, "body") != 0)
         follow = 0.0f;
+    /* the support hierarchy in effect: the tryon solver on a garment without attachments */
+    int support =
+        o.desc.support >= 0 && o.desc.solver == SIM_SOLVER_TRYON && strcmp(o.scene, "body") != 0;
     printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"solver\":\"%s\",\"backend\":\"%s\","
            "\"device\":\"%s\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,"
            "\"ms_median\":%.3f,\"ms_p95\":%.3f,\"max_strain\":%.5f,\"p99_strain\":%.5f,"
            "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
            "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
-           "\"follow\":%g,\"settle_frames\":%d}\n",
+           "\"follow\":%g,\"settle_frames\":%d,\"support\":%d}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
-           follow, settled);
+           follow, settled, support);
     run_free(&r);
     return 0;
 }
