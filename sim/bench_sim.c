@@ -92,6 +92,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.follow = (float)atof(v);
         else if (strcmp(a, "--support") == 0)
             o->desc.support = atoi(v);
+        else if (strcmp(a, "--strain-limit") == 0)
+            o->desc.strain_limit = (float)atof(v);
         else if (strcmp(a, "--bend") == 0)
             o->desc.fabric.bend_n_m = (float)atof(v);
         else if (strcmp(a, "--backend") == 0 && (!strcmp(v, "c") || !strcmp(v, "opencl")))
@@ -233,10 +235,12 @@ static uint32_t garment_hash(const bench_opts *o)
  * the cache only (NULL when it is not there). */
 static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x.bin", o->cache_dir,
+    char path[512], limit[32] = ""; /* another strain limit is another model */
+    if (o->desc.strain_limit != 0.0f && o->desc.strain_limit != sim_default_desc().strain_limit)
+        snprintf(limit, sizeof limit, "-limit%g", o->desc.strain_limit);
+    snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x%s.bin", o->cache_dir,
              BENCH_REF_VERSION, o->scene, o->motion, o->verts, iters, o->frames,
-             o->desc.fabric.stretch_n_m, o->desc.fabric.bend_n_m, (unsigned)garment_hash(o));
+             o->desc.fabric.stretch_n_m, o->desc.fabric.bend_n_m, (unsigned)garment_hash(o), limit);
     size_t per = (size_t)nsnap * 3 * sizeof(float);
     FILE *f = fopen(path, "rb");
     if (f && nsnap > 0 && fseek(f, 0, SEEK_END) == 0) {

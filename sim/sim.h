@@ -66,7 +66,7 @@ typedef struct sim_desc {
     float thickness_m;  /* cloth kept this far outside the body; 0 = 0.004 */
     float friction;     /* Coulomb coefficient against the body; 0 = 0.3; < 0 = none */
     float gravity_m_s2; /* downward; 0 = 9.81; < 0 = none */
-    float strain_limit; /* tryon solver: stretch springs clamped to rest * (1 + this); 0 = 0.01 */
+    float strain_limit; /* tryon solver: stretch springs clamped to rest * (1 + this); 0 = 0.0075 */
     /* tryon solver, garments with 3 or more attachments: the fraction of the attachments' rigid
      * motion each body frame given to the whole garment before it is simulated (a frame moving
      * with the body part the garment hangs from; docs/sim.md); 0 = 1; < 0 = none (world frame).

@@ -23,12 +23,12 @@
 static void drape_reaches_rest(sim_backend b, sim_solver solver)
 {
     sim_desc d = sim_default_desc();
-    d.damping = 0.9f; /* settle within the test's 2 s */
+    d.damping = 0.9f; /* settle within the test's 3 s (0.03 m/s then; 0.10 m/s at 2 s) */
     sim *s = simt_drape(b, solver, 10, &d);
     assert_non_null(s);
     sim_scene *sc = simt_sphere();
     sim_frame_stats st;
-    int worst = simt_run(s, sc, 60, &st);
+    int worst = simt_run(s, sc, 90, &st);
     printf("# %s/%s: worst penetrating %d, last max strain %.3f, speed %.3f m/s\n",
            simt_backend_name(b), solver == SIM_SOLVER_SEED ? "seed" : "tryon", worst, st.max_strain,
            simt_max_speed(s, d.frame_dt_s));
