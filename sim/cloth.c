@@ -266,13 +266,13 @@ static int build_tethers(sim_cloth *c)
     int nv = c->nv, ns = c->ns;
     c->tether_anchor = malloc((size_t)nv * sizeof *c->tether_anchor);
     c->tether_len = malloc((size_t)nv * sizeof *c->tether_len);
-    int32_t *start = NULL, *adj = NULL;
+    const int32_t *start = c->adj_start, *adj = c->adj_spring;
     heap_item *heap = malloc((size_t)(2 * ns + nv + 1) * sizeof *heap);
-    int r = stretch_springs_by_vertex(c, &start, &adj);
-    if (r == 0 && (!c->tether_anchor || !c->tether_len || !heap))
+    int r = 0;
+    if (!c->tether_anchor || !c->tether_len || !heap) {
         r = -SIM_ERR_NO_MEMORY;
-    if (r < 0)
         goto done;
+    }
     int n = 0;
     for (int i = 0; i < nv; i++) {
         c->tether_anchor[i] = -1;
@@ -312,8 +312,6 @@ static int build_tethers(sim_cloth *c)
         }
     }
 done:
-    free(start);
-    free(adj);
     free(heap);
     return r;
 }
@@ -325,18 +323,18 @@ static int build_hierarchy(sim_cloth *c)
 {
     int nv = c->nv, ns = c->ns;
     int32_t *level = malloc((size_t)nv * sizeof *level);
-    int32_t *start = NULL, *adj = NULL;
+    const int32_t *start = c->adj_start, *adj = c->adj_spring;
     c->hier_vertex = malloc((size_t)(nv + 1) * sizeof *c->hier_vertex);
     c->hier_level_start = malloc((size_t)(nv + 2) * sizeof *c->hier_level_start);
     c->hier_parent_start = malloc((size_t)(nv + 1) * sizeof *c->hier_parent_start);
     c->hier_parent = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_parent);
     c->hier_rest = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_rest);
-    int r = stretch_springs_by_vertex(c, &start, &adj);
-    if (r == 0 && (!level || !c->hier_vertex || !c->hier_level_start || !c->hier_parent_start ||
-                   !c->hier_parent || !c->hier_rest))
+    int r = 0;
+    if (!level || !c->hier_vertex || !c->hier_level_start || !c->hier_parent_start ||
+        !c->hier_parent || !c->hier_rest) {
         r = -SIM_ERR_NO_MEMORY;
-    if (r < 0)
         goto done;
+    }
     for (int i = 0; i < nv; i++)
         level[i] = -1;
     /* breadth first: hier_vertex doubles as the queue; the attached vertices seed it and are
@@ -381,8 +379,6 @@ static int build_hierarchy(sim_cloth *c)
     c->hier_level_start[c->hier_levels] = n;
 done:
     free(level);
-    free(start);
-    free(adj);
     return r;
 }
 
@@ -440,11 +436,11 @@ int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_
         float d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         c->rest[s] = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    r = build_tethers(c);
+    r = stretch_springs_by_vertex(c, &c->adj_start, &c->adj_spring);
+    if (r == 0)
+        r = build_tethers(c);
     if (r == 0)
         r = build_hierarchy(c);
-    if (r == 0)
-        r = stretch_springs_by_vertex(c, &c->adj_start, &c->adj_spring);
     if (r != 0)
         sim_cloth_free(c);
     return r;

@@ -25,11 +25,10 @@ typedef struct c_state {
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
     /* the support hierarchy (cloth.h), per vertex: how squarely the body holds it up, its level,
-       and the vertices in breadth-first order; how many the last frame's reached */
+       and the vertices in breadth-first order */
     float *rest_up;
     int32_t *level;
     int32_t *queue;
-    int support_reached;
     char name[64];
 } c_state;
 
@@ -228,8 +227,8 @@ static void support_hierarchy(struct sim *s, c_state *cs, sim_phases *ph, sim_ph
         for (int i = 0; i < c->nv; i++)
             if (cs->rest_up[i] > best)
                 best = cs->rest_up[i], root = i;
-        cs->support_reached = sim_support_levels(c, root, cs->level, cs->queue);
-        for (int q = 0; q < cs->support_reached; q++)
+        int n = sim_support_levels(c, root, cs->level, cs->queue);
+        for (int q = 0; q < n; q++)
             sim_support_pull(c->x, c, cs->level, cs->queue[q], limit);
     }
     sim_phase_end(ph, cur, 0);
