@@ -118,18 +118,33 @@ int sim_float_order(float f)
     return k < 0 ? k ^ 0x7fffffff : k;
 }
 
-/* sim_support_pull: vertex i to within the limit of its stretch neighbours one level nearer. */
-void sim_support_pull_one(__global float4 *x, __global const int2 *ends, __global const float *rest,
-                          __global const int *adj_start, __global const int *adj_spring,
-                          __global const int *level, int i, float limit)
+/* sim_support_pull: vertex i to within the limit of its stretch neighbours one level nearer the
+   root, its velocity away from such a neighbour removed where it was past the limit (x_prev holds
+   -(x - x_prev) in the post-stabilisation's bracket). */
+void sim_support_pull_one(__global float4 *x, __global float4 *x_prev, __global const int2 *ends,
+                          __global const float *rest, __global const int *adj_start,
+                          __global const int *adj_spring, __global const int *level, int i,
+                          float limit)
 {
     if (x[i].w == 0.0f)
         return;
     for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
         int s = adj_spring[k];
         int u = ends[s].x == i ? ends[s].y : ends[s].x;
-        if (level[u] == level[i] - 1)
-            sim_pull_within(x, i, u, rest[s] * (1.0f + limit));
+        if (level[u] != level[i] - 1)
+            continue;
+        float4 p = x[i], o = x[u], q = x_prev[i];
+        float dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+        float len = sqrt(dx * dx + dy * dy + dz * dz);
+        float lmax = rest[s] * (1.0f + limit);
+        if (len <= lmax)
+            continue;
+        float away = -(q.x * dx + q.y * dy + q.z * dz) / len;
+        float pull = (len - lmax) / len;
+        x[i] = (float4)(p.x - dx * pull, p.y - dy * pull, p.z - dz * pull, p.w);
+        if (away > 0.0f)
+            x_prev[i] = (float4)(q.x + away * (dx / len), q.y + away * (dy / len),
+                                 q.z + away * (dz / len), q.w);
     }
 }
 
@@ -371,11 +386,11 @@ __kernel void sim_iterations_tryon(
                                          e, limit);
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
-        /* the support hierarchy (sim/solver_c.c support_hierarchy): the root, the largest
-           sim_resting_one (the lowest index among equals), then breadth first from it, each new
-           level's vertices claimed by compare-and-swap on their level (so the levels are C's,
-           whatever the order) and pulled once all are known: a vertex reads only its parents,
-           final a level before. front: two lists of nv vertices. */
+        /* the support hierarchy (sim/solver_c.c support_hierarchy): the root, the highest of the
+           vertices resting on an upward face (the lowest index among equals), then breadth first
+           from it, each new level's vertices claimed by compare-and-swap on their level (so the
+           levels are C's, whatever the order) and pulled once all are known: a vertex reads only
+           its parents, final a level before. front: two lists of nv vertices. */
         if (r < 0 && support) {
             if (lid == 0) {
                 support_key = INT_MIN;
@@ -384,14 +399,13 @@ __kernel void sim_iterations_tryon(
             barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
             for (int i = lid; i < nv; i += L) {
                 level[i] = -1;
-                float up = sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol);
-                if (up > -2.0f)
-                    atomic_max(&support_key, sim_float_order(up));
+                if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f)
+                    atomic_max(&support_key, sim_float_order(x[i].y));
             }
             barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
             for (int i = lid; i < nv; i += L) {
-                float up = sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol);
-                if (up > -2.0f && sim_float_order(up) == support_key)
+                if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f &&
+                    sim_float_order(x[i].y) == support_key)
                     atomic_min(&support_root, i);
             }
             barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
@@ -417,8 +431,8 @@ __kernel void sim_iterations_tryon(
                 barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
                 n = support_count;
                 for (int f = lid; f < n; f += L)
-                    sim_support_pull_one(x, ends, rest, adj_start, adj_spring, level, next[f],
-                                         limit);
+                    sim_support_pull_one(x, x_prev, ends, rest, adj_start, adj_spring, level,
+                                         next[f], limit);
                 barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
             }
         }

@@ -178,15 +178,17 @@ void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *p
                           const int32_t *parent, const float *rest, int begin, int end,
                           float limit);
 /* tryon: the support hierarchy, for garments without attachments (docs/sim.md): the strain-limit
- * hierarchy rooted, each frame, at the one vertex the body holds up most squarely (the root: the
- * resting vertex whose contact faces most nearly up, the lowest index among equals).
+ * hierarchy rooted, each frame, at the highest vertex the body holds up (the root: of the vertices
+ * resting on an upward face, sim_collider_resting > 0, the highest, the lowest index among equals).
  * sim_support_levels: level[v] = hops over stretch springs from the root, -1 where it does not
  * reach (or no root, root < 0); queue receives the vertices reached but the root in breadth-first
  * order; returns how many. sim_support_pull: vertex v (not pinned) moved alone to within
- * rest (1 + limit) of each stretch neighbour one level nearer the root, in adjacency order.
+ * rest (1 + limit) of each stretch neighbour one level nearer the root, in adjacency order, its
+ * velocity away from such a neighbour removed where it was past the limit (springs.c says why).
  * Twins: the support block of sim_iterations_tryon (kernels/springs.cl). */
 int sim_support_levels(const sim_cloth *c, int root, int32_t *level, int32_t *queue);
-void sim_support_pull(float (*x)[4], const sim_cloth *c, const int32_t *level, int v, float limit);
+void sim_support_pull(float (*x)[4], float (*x_prev)[4], const sim_cloth *c, const int32_t *level,
+                      int v, float limit);
 /* tryon, post-stabilisation: x_prev -= x before position-only corrections, x_prev += x after,
  * so the velocity x - x_prev survives them; pinned points (w = 0) untouched. */
 void sim_post_begin(float (*x)[4], float (*x_prev)[4], int begin, int end);

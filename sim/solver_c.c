@@ -24,8 +24,8 @@ typedef struct c_state {
        floats order as their bits), maxed over the threads */
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
-    /* the support hierarchy (cloth.h), per vertex: how squarely the body holds it up, its level,
-       and the vertices in breadth-first order */
+    /* the support hierarchy (cloth.h), per vertex: its contact face's up when it rests on the
+       body, its level, and the vertices in breadth-first order */
     float *rest_up;
     int32_t *level;
     int32_t *queue;
@@ -208,9 +208,9 @@ static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, f
     sim_phase_end(ph, cur, wake);
 }
 
-/* The support hierarchy (cloth.h), for a garment without attachments: how squarely the body
- * holds each vertex up (all threads), then one thread picks the root, walks the levels from it and
- * pulls each vertex to within the limit of its parents, level by level (positions only: inside the
+/* The support hierarchy (cloth.h), for a garment without attachments: which vertices rest on an
+ * upward face (all threads), then one thread picks the highest as the root, walks the levels from
+ * it and pulls each vertex to within the limit of its parents, level by level (inside the
  * post-stabilisation's bracket). */
 static void support_hierarchy(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
                               float limit)
@@ -223,13 +223,12 @@ static void support_hierarchy(struct sim *s, c_state *cs, sim_phases *ph, sim_ph
     sim_phase_end(ph, cur, 0);
     while (sim_phase_claim(ph, cur, 1, 1, &b, &e)) {
         int root = -1;
-        float best = SIM_NOT_RESTING;
         for (int i = 0; i < c->nv; i++)
-            if (cs->rest_up[i] > best)
-                best = cs->rest_up[i], root = i;
+            if (cs->rest_up[i] > 0.0f && (root < 0 || c->x[i][1] > c->x[root][1]))
+                root = i;
         int n = sim_support_levels(c, root, cs->level, cs->queue);
         for (int q = 0; q < n; q++)
-            sim_support_pull(c->x, c, cs->level, cs->queue[q], limit);
+            sim_support_pull(c->x, c->x_prev, c, cs->level, cs->queue[q], limit);
     }
     sim_phase_end(ph, cur, 0);
 }

@@ -479,16 +479,35 @@ int sim_support_levels(const sim_cloth *c, int root, int32_t *level, int32_t *qu
 }
 
 /* The support hierarchy's pass for one vertex: as sim_strain_hierarchy, its parents being its
- * stretch neighbours one level nearer the root. */
-void sim_support_pull(float (*x)[4], const sim_cloth *c, const int32_t *level, int v, float limit)
+ * stretch neighbours one level nearer the root; and, where a parent spring was past the limit,
+ * the vertex's velocity away from that parent along it removed (the velocity modification of
+ * Vassilev, Spanlang & Chrysanthou 2001, seed 003, one-sided: the parent is the support). Without
+ * it the kept velocity re-stretched the cloth every frame and the pass lifted it back: a drape of
+ * 14,884 vertices gained speed until it slid off the sphere (docs/sim.md). Called inside the
+ * post-stabilisation's bracket, where x_prev holds -(x - x_prev), the step's displacement negated.
+ */
+void sim_support_pull(float (*x)[4], float (*x_prev)[4], const sim_cloth *c, const int32_t *level,
+                      int v, float limit)
 {
     if (x[v][3] == 0.0f)
         return;
     for (int k = c->adj_start[v]; k < c->adj_start[v + 1]; k++) {
         int s = c->adj_spring[k];
         int u = c->ends[s][0] == v ? c->ends[s][1] : c->ends[s][0];
-        if (level[u] == level[v] - 1)
-            pull_within(x[v], x[u], c->rest[s] * (1.0f + limit));
+        if (level[u] != level[v] - 1)
+            continue;
+        float d[3] = {x[v][0] - x[u][0], x[v][1] - x[u][1], x[v][2] - x[u][2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float lmax = c->rest[s] * (1.0f + limit);
+        if (len <= lmax)
+            continue;
+        float away = -(x_prev[v][0] * d[0] + x_prev[v][1] * d[1] + x_prev[v][2] * d[2]) / len;
+        float pull = (len - lmax) / len;
+        for (int a = 0; a < 3; a++)
+            x[v][a] -= d[a] * pull;
+        if (away > 0.0f)
+            for (int a = 0; a < 3; a++)
+                x_prev[v][a] += away * (d[a] / len);
     }
 }
 
