@@ -101,7 +101,8 @@ void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[
 
 /* How squarely the body holds point i at p up: the upward (+y) component of its cached triangle's
    face normal when p lies within thickness + tol_m of that triangle (closest-point distance), or
-   SIM_NOT_RESTING when it has none or lies farther (the support hierarchy's root). */
+   SIM_NOT_RESTING when it has none or lies farther (the support hierarchy's root is the highest
+   point with a value above 0: resting on an upward face). */
 #define SIM_NOT_RESTING (-2.0f)
 float sim_collider_resting(const sim_collider *c, int i, const float p[3], float tol_m);
 
