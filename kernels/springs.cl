@@ -83,17 +83,36 @@ void sim_tether_one(__global float4 *x, __global const int *anchor, __global con
     sim_pull_within(x, i, a, len[i] * (1.0f + limit));
 }
 
+/* Twin of pull_within_still (sim/springs.c): x[i] moved alone to within lmax of x[q], and where
+   it was farther its velocity away from x[q] removed (x_prev holds -(x - x_prev) in the
+   post-stabilisation's bracket): seed 003's velocity modification, one-sided. */
+void sim_pull_within_still(__global float4 *x, __global float4 *x_prev, int i, int q, float lmax)
+{
+    float4 p = x[i], o = x[q], v = x_prev[i];
+    float dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+    float len = sqrt(dx * dx + dy * dy + dz * dz);
+    if (len <= lmax)
+        return;
+    float away = -(v.x * dx + v.y * dy + v.z * dz) / len;
+    float c = (len - lmax) / len;
+    x[i] = (float4)(p.x - dx * c, p.y - dy * c, p.z - dz * c, p.w);
+    if (away > 0.0f)
+        x_prev[i] = (float4)(v.x + away * (dx / len), v.y + away * (dy / len),
+                             v.z + away * (dz / len), v.w);
+}
+
 /* The strain-limit hierarchy, entry e (sim_strain_hierarchy): its vertex moved alone to within
-   rest (1 + limit) of each parent in turn. */
-void sim_strain_hierarchy_one(__global float4 *x, __global const int *vertex,
-                              __global const int *parent_start, __global const int *parent,
-                              __global const float *rest, int e, float limit)
+   rest (1 + limit) of each parent in turn, its velocity away from them removed. */
+void sim_strain_hierarchy_one(__global float4 *x, __global float4 *x_prev,
+                              __global const int *vertex, __global const int *parent_start,
+                              __global const int *parent, __global const float *rest, int e,
+                              float limit)
 {
     int i = vertex[e];
     if (x[i].w == 0.0f)
         return;
     for (int k = parent_start[e]; k < parent_start[e + 1]; k++)
-        sim_pull_within(x, i, parent[k], rest[k] * (1.0f + limit));
+        sim_pull_within_still(x, x_prev, i, parent[k], rest[k] * (1.0f + limit));
 }
 
 /* The support hierarchy (sim/solver_c.c support_hierarchy, sim/springs.c sim_support_levels and
@@ -119,8 +138,7 @@ int sim_float_order(float f)
 }
 
 /* sim_support_pull: vertex i to within the limit of its stretch neighbours one level nearer the
-   root, its velocity away from such a neighbour removed where it was past the limit (x_prev holds
-   -(x - x_prev) in the post-stabilisation's bracket). */
+   root, as the hierarchy does. */
 void sim_support_pull_one(__global float4 *x, __global float4 *x_prev, __global const int2 *ends,
                           __global const float *rest, __global const int *adj_start,
                           __global const int *adj_spring, __global const int *level, int i,
@@ -131,20 +149,8 @@ void sim_support_pull_one(__global float4 *x, __global float4 *x_prev, __global 
     for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
         int s = adj_spring[k];
         int u = ends[s].x == i ? ends[s].y : ends[s].x;
-        if (level[u] != level[i] - 1)
-            continue;
-        float4 p = x[i], o = x[u], q = x_prev[i];
-        float dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
-        float len = sqrt(dx * dx + dy * dy + dz * dz);
-        float lmax = rest[s] * (1.0f + limit);
-        if (len <= lmax)
-            continue;
-        float away = -(q.x * dx + q.y * dy + q.z * dz) / len;
-        float pull = (len - lmax) / len;
-        x[i] = (float4)(p.x - dx * pull, p.y - dy * pull, p.z - dz * pull, p.w);
-        if (away > 0.0f)
-            x_prev[i] = (float4)(q.x + away * (dx / len), q.y + away * (dy / len),
-                                 q.z + away * (dz / len), q.w);
+        if (level[u] == level[i] - 1)
+            sim_pull_within_still(x, x_prev, i, u, rest[s] * (1.0f + limit));
     }
 }
 
@@ -382,8 +388,8 @@ __kernel void sim_iterations_tryon(
         barrier(CLK_GLOBAL_MEM_FENCE);
         for (int l = 0; r < 0 && l < hier_levels; l++) {
             for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
-                sim_strain_hierarchy_one(x, hier_vertex, hier_parent_start, hier_parent, hier_rest,
-                                         e, limit);
+                sim_strain_hierarchy_one(x, x_prev, hier_vertex, hier_parent_start, hier_parent,
+                                         hier_rest, e, limit);
             barrier(CLK_GLOBAL_MEM_FENCE);
         }
         /* the support hierarchy (sim/solver_c.c support_hierarchy): the root, the highest of the

@@ -15,7 +15,7 @@
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
-#define BENCH_REF_VERSION 7
+#define BENCH_REF_VERSION 8
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;

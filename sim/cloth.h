@@ -133,7 +133,7 @@ struct sim {
    the largest stretch strain is above SIM_SETTLE_STRAIN: frames where the body moved the cloth
    fast (the walk, the swing) get them, a standing body none (docs/sim.md, "Settle rounds"). */
 #define SIM_SETTLE_STRAIN 0.02f
-#define SIM_SETTLE_ROUNDS 26
+#define SIM_SETTLE_ROUNDS 50 /* 26 until the walk's frames were seen to use them all */
 #define SIM_SETTLE_BATCH  2
 /* ... and only while each batch takes at least 2 % off that strain: a garment the rounds cannot
    settle (the drape's corners, 9 % falling by 1-2 % a batch) is left to the next frame; frames
@@ -173,10 +173,12 @@ void sim_tethers(float (*x)[4], const int32_t *anchor, const float *len, int beg
                  float limit);
 /* tryon: the strain-limit hierarchy over entries [begin, end) in level order: each vertex is
  * moved (alone: its parents count as infinitely heavy) to within rest * (1 + limit) of each of
- * its parents in turn. Vertices of one level are independent. */
-void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *parent_start,
-                          const int32_t *parent, const float *rest, int begin, int end,
-                          float limit);
+ * its parents in turn, and its velocity away from a parent it was pulled to is removed (called in
+ * the post-stabilisation's bracket: x_prev holds -(x - x_prev)). Vertices of one level are
+ * independent. */
+void sim_strain_hierarchy(float (*x)[4], float (*x_prev)[4], const int32_t *vertex,
+                          const int32_t *parent_start, const int32_t *parent, const float *rest,
+                          int begin, int end, float limit);
 /* tryon: the support hierarchy, for garments without attachments (docs/sim.md): the strain-limit
  * hierarchy rooted, each frame, at the highest vertex the body holds up (the root: of the vertices
  * resting on an upward face, sim_collider_resting > 0, the highest, the lowest index among equals).

@@ -339,9 +339,9 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
         for (int r = -1; r < SIM_POST_ROUNDS; r++) {
             if (r < 0) {
                 while (sim_phase_claim(ph, &cur, 1, 1, &b, &e))
-                    sim_strain_hierarchy(c->x, c->hier_vertex, c->hier_parent_start, c->hier_parent,
-                                         c->hier_rest, 0, c->hier_level_start[c->hier_levels],
-                                         limit);
+                    sim_strain_hierarchy(c->x, c->x_prev, c->hier_vertex, c->hier_parent_start,
+                                         c->hier_parent, c->hier_rest, 0,
+                                         c->hier_level_start[c->hier_levels], limit);
                 sim_phase_end(ph, &cur, 0);
             }
             if (r < 0 && support)

@@ -437,20 +437,44 @@ static void pull_within(float *p, const float *q, float lmax)
         p[a] -= d[a] * c;
 }
 
+/* p (its x_prev in the post-stabilisation's bracket: -(x - x_prev), the step's displacement
+ * negated) moved alone to within lmax of q, and where it was farther, its velocity away from q
+ * removed: the velocity modification of Vassilev, Spanlang & Chrysanthou (2001), seed 003's remedy
+ * for super-elasticity, one-sided as the hierarchies are (q is final, as if infinitely heavy).
+ * Without it the kept velocity re-stretches what the pass took out: a drape of 14,884 vertices
+ * under the support hierarchy gained speed until it slid off the sphere, and the walk's p99
+ * strain was 1.33 % where it is 1.08 % (docs/sim.md, "The support hierarchy"). It can only slow p.
+ */
+static void pull_within_still(float *p, float *p_prev, const float *q, float lmax)
+{
+    float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len <= lmax)
+        return;
+    float away = -(p_prev[0] * d[0] + p_prev[1] * d[1] + p_prev[2] * d[2]) / len;
+    float c = (len - lmax) / len;
+    for (int a = 0; a < 3; a++)
+        p[a] -= d[a] * c;
+    if (away > 0.0f)
+        for (int a = 0; a < 3; a++)
+            p_prev[a] += away * (d[a] / len);
+}
+
 /* Shock propagation (Guendelman, Bridson & Fedkiw 2003) applied to strain limiting: processed
  * from the attachments outward, each vertex is corrected against its already-final parents as if
  * they were infinitely heavy, so one pass removes a stretch that Gauss-Seidel sweeps remove one
  * spring per sweep (the one-sided projection of follow-the-leader, Mueller et al. 2012, on the
  * springs of a level graph). */
-void sim_strain_hierarchy(float (*x)[4], const int32_t *vertex, const int32_t *parent_start,
-                          const int32_t *parent, const float *rest, int begin, int end, float limit)
+void sim_strain_hierarchy(float (*x)[4], float (*x_prev)[4], const int32_t *vertex,
+                          const int32_t *parent_start, const int32_t *parent, const float *rest,
+                          int begin, int end, float limit)
 {
     for (int e = begin; e < end; e++) {
         int i = vertex[e];
         if (x[i][3] == 0.0f)
             continue; /* pinned: the driver places it */
         for (int k = parent_start[e]; k < parent_start[e + 1]; k++)
-            pull_within(x[i], x[parent[k]], rest[k] * (1.0f + limit));
+            pull_within_still(x[i], x_prev[i], x[parent[k]], rest[k] * (1.0f + limit));
     }
 }
 
@@ -479,13 +503,7 @@ int sim_support_levels(const sim_cloth *c, int root, int32_t *level, int32_t *qu
 }
 
 /* The support hierarchy's pass for one vertex: as sim_strain_hierarchy, its parents being its
- * stretch neighbours one level nearer the root; and, where a parent spring was past the limit,
- * the vertex's velocity away from that parent along it removed (the velocity modification of
- * Vassilev, Spanlang & Chrysanthou 2001, seed 003, one-sided: the parent is the support). Without
- * it the kept velocity re-stretched the cloth every frame and the pass lifted it back: a drape of
- * 14,884 vertices gained speed until it slid off the sphere (docs/sim.md). Called inside the
- * post-stabilisation's bracket, where x_prev holds -(x - x_prev), the step's displacement negated.
- */
+ * stretch neighbours one level nearer the root. */
 void sim_support_pull(float (*x)[4], float (*x_prev)[4], const sim_cloth *c, const int32_t *level,
                       int v, float limit)
 {
@@ -494,20 +512,8 @@ void sim_support_pull(float (*x)[4], float (*x_prev)[4], const sim_cloth *c, con
     for (int k = c->adj_start[v]; k < c->adj_start[v + 1]; k++) {
         int s = c->adj_spring[k];
         int u = c->ends[s][0] == v ? c->ends[s][1] : c->ends[s][0];
-        if (level[u] != level[v] - 1)
-            continue;
-        float d[3] = {x[v][0] - x[u][0], x[v][1] - x[u][1], x[v][2] - x[u][2]};
-        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        float lmax = c->rest[s] * (1.0f + limit);
-        if (len <= lmax)
-            continue;
-        float away = -(x_prev[v][0] * d[0] + x_prev[v][1] * d[1] + x_prev[v][2] * d[2]) / len;
-        float pull = (len - lmax) / len;
-        for (int a = 0; a < 3; a++)
-            x[v][a] -= d[a] * pull;
-        if (away > 0.0f)
-            for (int a = 0; a < 3; a++)
-                x_prev[v][a] += away * (d[a] / len);
+        if (level[u] == level[v] - 1)
+            pull_within_still(x[v], x_prev[v], x[u], c->rest[s] * (1.0f + limit));
     }
 }
 

@@ -134,18 +134,24 @@ static void test_sim_hanging_sheet_strain(void **state)
     sim_garment_free(&g);
 }
 
-/* The hierarchy by hand: a chain hanging from a pinned vertex, stretched 10 % per link, is at
- * the limit after one pass, the pinned end where it was. */
+/* The hierarchy by hand: a chain hanging from a pinned vertex, stretched 10 % per link and still
+ * falling, is at the limit after one pass, the pinned end where it was, and no longer falls away
+ * from its parents (the velocity modification; in the post-stabilisation's bracket x_prev holds
+ * -(x - x_prev), here 1 cm a step downwards). */
 static void test_sim_strain_hierarchy_one_pass(void **state)
 {
     (void)state;
     float x[4][4] = {{0, 0, 0, 0}, {0, -1.1f, 0, 1}, {0, -2.2f, 0, 1}, {0, -3.3f, 0, 1}};
+    float x_prev[4][4] = {{0, 0, 0, 0}, {0.001f, 0.01f, 0, 0}, {0, 0.01f, 0, 0}, {0, 0.01f, 0, 0}};
     int32_t vertex[3] = {1, 2, 3}, start[4] = {0, 1, 2, 3}, parent[3] = {0, 1, 2};
     float rest[3] = {1, 1, 1};
-    sim_strain_hierarchy(x, vertex, start, parent, rest, 0, 3, 0.01f);
+    sim_strain_hierarchy(x, x_prev, vertex, start, parent, rest, 0, 3, 0.01f);
     assert_float_equal(x[0][1], 0.0f, 0.0f);
-    for (int i = 1; i < 4; i++)
+    for (int i = 1; i < 4; i++) {
         assert_float_equal(x[i - 1][1] - x[i][1], 1.01f, 1e-5f);
+        assert_float_equal(x_prev[i][1], 0.0f, 1e-7f); /* the fall along the chain stopped */
+    }
+    assert_float_equal(x_prev[1][0], 0.001f, 0.0f); /* the sideways motion kept */
 }
 
 /* A tall sheet hanging in the default 25 steps: one Gauss-Seidel sweep of the strain limit per
