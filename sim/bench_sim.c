@@ -42,6 +42,8 @@ static void usage(void)
         "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
+        "         [--strain-limit S (the clamp, default 0.0075)]\n"
+        "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
         "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
         "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
         "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
@@ -92,6 +94,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.follow = (float)atof(v);
         else if (strcmp(a, "--support") == 0)
             o->desc.support = atoi(v);
+        else if (strcmp(a, "--strain-retry") == 0)
+            o->desc.retry_max_strain = o->desc.retry_p99_strain = atoi(v) < 0 ? -1.0f : 0.0f;
         else if (strcmp(a, "--strain-limit") == 0)
             o->desc.strain_limit = (float)atof(v);
         else if (strcmp(a, "--bend") == 0)
@@ -269,6 +273,7 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
     d.iterations = iters;
     d.follow = -1.0f; /* the world frame: the physics without the moving frame's shortcut */
     d.support = 0;    /* and the same reference whether or not the run has the support pass */
+    d.retry_max_strain = d.retry_p99_strain = -1.0f; /* or the strain retries */
     bench_run rr = {0};
     if (run(o, &d, 0, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
         run_free(&rr);
@@ -426,7 +431,7 @@ int main(int argc, char **argv)
         r.ms[f] -= r.st[f].ms_metrics;
     float ms_nm = percentile(r.ms + warm, o.frames - warm, 0.5f);
     float max_strain = 0, p99 = 0, pen_mm = 0;
-    int pen = 0, recovered = 0, settled = 0,
+    int pen = 0, recovered = 0, strain_retried = 0, settled = 0,
         settle = o.frames > BENCH_SETTLE_FRAMES ? BENCH_SETTLE_FRAMES : 0;
     for (int f = 0; f < o.frames; f++) {
         const sim_frame_stats *s = &r.st[f];
@@ -437,6 +442,7 @@ int main(int argc, char **argv)
         pen = s->penetrating > pen ? s->penetrating : pen;
         pen_mm = fmaxf(pen_mm, s->max_pen_mm);
         recovered += s->state == SIM_STATE_RECOVERED;
+        strain_retried += s->strain_retries > 0;
         settled += s->settle_rounds > 0;
     }
     int nv_ref = r.nv;
@@ -474,19 +480,21 @@ int main(int argc, char **argv)
     /* the support hierarchy in effect: the tryon solver on a garment without attachments */
     int support =
         o.desc.support >= 0 && o.desc.solver == SIM_SOLVER_TRYON && strcmp(o.scene, "body") != 0;
+    int strain_retry = o.desc.solver == SIM_SOLVER_TRYON && o.desc.retry_max_strain >= 0.0f;
     printf("{\"scene\":\"%s\",\"motion\":\"%s\",\"solver\":\"%s\",\"backend\":\"%s\","
            "\"device\":\"%s\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,"
            "\"ms_median\":%.3f,\"ms_p95\":%.3f,\"max_strain\":%.5f,\"p99_strain\":%.5f,"
            "\"penetrating\":%d,\"max_pen_mm\":%.2f,\"cloth_error_mm\":%.2f,"
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
            "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
-           "\"follow\":%g,\"settle_frames\":%d,\"support\":%d}\n",
+           "\"follow\":%g,\"settle_frames\":%d,\"support\":%d,\"strain_retry\":%d,"
+           "\"strain_retried_frames\":%d}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
-           follow, settled, support);
+           follow, settled, support, strain_retry, strain_retried);
     run_free(&r);
     return 0;
 }

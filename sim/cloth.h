@@ -64,6 +64,7 @@ typedef struct sim_body {
     int32_t (*tris)[4];
     float (*n)[4];    /* face normals of frame k, of the attachments' triangles only */
     float max_move_m; /* the farthest any vertex moved from k-1 to k */
+    long stored;      /* body frames stored: a backend uploads a frame once, whatever the retries */
 } sim_body;
 
 struct sim;
@@ -99,11 +100,14 @@ struct sim {
     void *backend;
     float (*x_good)[4]; /* last published (good) state, restored on divergence */
     float (*x_prev_good)[4];
+    float (*x_best)[4]; /* the least stretched attempt of a frame retried for its strain */
+    float (*x_prev_best)[4];
     float *scratch;    /* ns floats: strains for the percentile */
     int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
     long frame;        /* body frames stepped */
     float energy_good; /* kinetic energy per kg of the last good frame, J/kg */
     float strain_good; /* max stretch strain of the last good frame */
+    float excess_good; /* its strain over the retry goals (sim.c: strain_excess; > 1: missed) */
     /* The moving frame of this body frame (follow.c): x -> m x (3 x 4, row-major) applied to
        the garment before the feature points when follow_on; follow_pq: 2 * num_attachments
        points, the attachments in frames k-1 and k. */
@@ -119,8 +123,11 @@ struct sim {
 #define SIM_DIVERGE_SPEED       50.0f  /* m/s; no garment point moves that fast on a person */
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
-#define SIM_CONTACT_MARGIN      0.03f  /* tryon: contacts cached with this reach beyond thickness */
-#define SIM_CONTACT_EVERY       5      /* tryon: iterations between contact searches */
+/* tryon: the strain goals a frame is retried for (sim_desc.retry_max_strain, retry_p99_strain) */
+#define SIM_RETRY_STRAIN   0.03f
+#define SIM_RETRY_P99      0.01f
+#define SIM_CONTACT_MARGIN 0.03f /* tryon: contacts cached with this reach beyond thickness */
+#define SIM_CONTACT_EVERY  5     /* tryon: iterations between contact searches */
 /* tryon: contacts are refreshed within a frame only when the fastest cloth point would travel
    farther than this in the frame (the reach: nothing beyond it at the frame's search can be met
    otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */

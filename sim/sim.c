@@ -76,6 +76,8 @@ sim_desc sim_default_desc(void)
         .strain_limit = 0.0075f,
         .follow = 1.0f,
         .support = 1,
+        .retry_max_strain = SIM_RETRY_STRAIN,
+        .retry_p99_strain = SIM_RETRY_P99,
         .max_body_vertices = 100000,
         .max_body_triangles = 200000,
     };
@@ -102,6 +104,8 @@ static sim_desc fill_defaults(const sim_desc *in)
     DEFAULT(strain_limit);
     DEFAULT(follow);
     DEFAULT(support);
+    DEFAULT(retry_max_strain);
+    DEFAULT(retry_p99_strain);
     DEFAULT(max_body_vertices);
     DEFAULT(max_body_triangles);
 #undef DEFAULT
@@ -133,10 +137,10 @@ static int check_desc(const sim_desc *d, sim_reject *why)
                               "positive and finite");
     if (!(d->damping < 1.0f) || !isfinite(d->friction) || !isfinite(d->gravity_m_s2) ||
         !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f) ||
-        !(d->follow <= 1.0f))
+        !(d->follow <= 1.0f) || isnan(d->retry_max_strain) || isnan(d->retry_p99_strain))
         return sim_reject_set(why, SIM_ERR_PARAM,
                               "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0, "
-                              "follow <= 1 needed");
+                              "follow <= 1, retry strains not NaN needed");
     if (d->backend != SIM_BACKEND_C && d->backend != SIM_BACKEND_OPENCL)
         return sim_reject_set(why, SIM_ERR_PARAM, "backend %d unknown", (int)d->backend);
     if (d->solver != SIM_SOLVER_TRYON && d->solver != SIM_SOLVER_SEED)
@@ -304,10 +308,13 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     int nv = s->cloth.nv;
     s->x_good = malloc((size_t)nv * sizeof *s->x_good);
     s->x_prev_good = malloc((size_t)nv * sizeof *s->x_prev_good);
+    s->x_best = malloc((size_t)nv * sizeof *s->x_best);
+    s->x_prev_best = malloc((size_t)nv * sizeof *s->x_prev_best);
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
     s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
-    if (!s->x_good || !s->x_prev_good || !s->scratch || !s->tris3 || !s->follow_pq ||
+    if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
+        !s->tris3 || !s->follow_pq ||
         body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
@@ -351,6 +358,8 @@ void sim_destroy(sim *s)
     body_free(&s->body);
     free(s->x_good);
     free(s->x_prev_good);
+    free(s->x_best);
+    free(s->x_prev_best);
     free(s->scratch);
     free(s->tris3);
     free(s->follow_pq);
@@ -394,6 +403,21 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
 }
 
+/* How far a frame's strain is over the retry goals: > 1 misses one of them; 0 without goals
+   (and for the seed solver, which is measured as published). */
+static float strain_excess(const sim *s, float max_strain, float p99)
+{
+    const sim_desc *d = &s->desc;
+    if (d->solver != SIM_SOLVER_TRYON)
+        return 0.0f;
+    float e = 0.0f;
+    if (d->retry_max_strain > 0.0f)
+        e = fmaxf(e, max_strain / d->retry_max_strain);
+    if (d->retry_p99_strain > 0.0f)
+        e = fmaxf(e, p99 / d->retry_p99_strain);
+    return e;
+}
+
 /* The state becomes the last good one; max_strain is its max stretch strain. */
 static void keep_good(sim *s, float max_strain)
 {
@@ -408,6 +432,7 @@ static void save_good(sim *s)
     float max_strain, p99;
     sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
     keep_good(s, max_strain);
+    s->excess_good = strain_excess(s, max_strain, p99);
 }
 
 static void restore_good(sim *s)
@@ -416,6 +441,21 @@ static void restore_good(sim *s)
     memcpy(s->cloth.x, s->x_good, bytes);
     memcpy(s->cloth.x_prev, s->x_prev_good, bytes);
     s->ops->upload(s->backend, s);
+}
+
+/* The stage times of every attempt of a frame add up. */
+static void add_stage_times(sim_frame_stats *sum, const sim_frame_stats *st)
+{
+    sum->ms_feature_points += st->ms_feature_points;
+    sum->ms_contacts += st->ms_contacts;
+    sum->ms_iterations += st->ms_iterations;
+}
+
+static void set_stage_times(sim_frame_stats *st, const sim_frame_stats *sum)
+{
+    st->ms_feature_points = sum->ms_feature_points;
+    st->ms_contacts = sum->ms_contacts;
+    st->ms_iterations = sum->ms_iterations;
 }
 
 static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int nt, sim_reject *why)
@@ -437,6 +477,7 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                               r == SIM_COLLIDE_EDEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
                               "body rejected by the collider: %s", sim_collide_error_str(r));
     body_store(&s->body, xyz, nv, tris, nt);
+    s->body.stored++;
     body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
@@ -462,21 +503,53 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     double t1 = now_ms();
     st->ms_bvh = (float)(t1 - t0);
 
-    int iters = s->desc.iterations, ok = 0;
-    float max_strain = 0.0f, p99 = 0.0f;
+    /* a diverged attempt is retried from the last good state with twice the iterations; so is
+       one whose strain misses the goals, and the good attempt nearest them is published */
+    int iters = s->desc.iterations, ok = 0, best_iters = 0;
+    int strain_retry = !(s->excess_good > 1.0f);
+    float max_strain = 0.0f, p99 = 0.0f, best_strain = 0.0f, best_p99 = 0.0f;
+    float excess = 0.0f, best_excess = INFINITY;
+    sim_frame_stats sum = {0};
     for (int attempt = 0; attempt <= SIM_MAX_RETRIES; attempt++) {
         r = s->ops->frame(s->backend, s, iters, st);
-        if (r == 0 && !state_diverged(s, iters, &max_strain, &p99)) {
+        add_stage_times(&sum, st);
+        int good = r == 0 && !state_diverged(s, iters, &max_strain, &p99);
+        excess = strain_excess(s, max_strain, p99);
+        if (good && (!(excess > 1.0f) || !strain_retry || attempt == SIM_MAX_RETRIES) &&
+            !(best_excess < excess)) {
             ok = 1;
             break;
+        }
+        if (good && excess < best_excess) {
+            size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_best;
+            memcpy(s->x_best, s->cloth.x, bytes);
+            memcpy(s->x_prev_best, s->cloth.x_prev, bytes);
+            best_strain = max_strain;
+            best_p99 = p99;
+            best_excess = excess;
+            best_iters = iters;
         }
         /* restore the last good state and retry with smaller steps */
         restore_good(s);
         if (attempt < SIM_MAX_RETRIES) {
             st->retries++;
+            st->strain_retries += good;
             iters *= 2;
         }
     }
+    if (!ok && best_iters > 0) {
+        /* an earlier attempt was good and nearer the goals than the last (or the last diverged) */
+        size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_best;
+        memcpy(s->cloth.x, s->x_best, bytes);
+        memcpy(s->cloth.x_prev, s->x_prev_best, bytes);
+        s->ops->upload(s->backend, s);
+        max_strain = best_strain;
+        p99 = best_p99;
+        excess = best_excess;
+        iters = best_iters;
+        ok = 1;
+    }
+    set_stage_times(st, &sum);
     st->iterations_used = iters;
     s->frame++;
     double t2 = now_ms();
@@ -497,6 +570,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
                              &st->penetrating, &depth);
     st->max_pen_mm = depth * 1000.0f;
     keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
+    s->excess_good = excess;
     double t3 = now_ms();
     st->ms_metrics = (float)(t3 - t2);
     st->ms_total = (float)(t3 - t0);

@@ -76,6 +76,13 @@ typedef struct sim_desc {
      * propagated in one pass outward from the vertex the body holds up (docs/sim.md); 0 = on;
      * < 0 = off. Garments with attachments propagate from those, always. */
     int support;
+    /* tryon solver: a frame whose stretch strain ends over these goals (max, p99) is done again
+     * from its start with twice, then four times the iterations, and the attempt nearest them
+     * is published (state recovered), unless the frame before missed them too (docs/sim.md,
+     * "Strain retries"); 0 = 0.03, 0.01 (ARCHITECTURE.md's goals after settling); < 0 = not a
+     * goal (both: no such retries). */
+    float retry_max_strain;
+    float retry_p99_strain;
     int max_body_vertices;  /* 0 = 100000 */
     int max_body_triangles; /* 0 = 200000 */
 } sim_desc;
@@ -98,6 +105,7 @@ typedef struct sim_frame_stats {
     int feature_points_moved;
     sim_state state;
     int retries;         /* recovery attempts this frame */
+    int strain_retries;  /* of them, for strain over the retry goals (not divergence) */
     int iterations_used; /* more than asked when recovering */
     int settle_rounds;   /* tryon: strain rounds after the post-stabilisation (0 when settled) */
     float ms_total;

@@ -16,9 +16,10 @@
 /* Bounds of the tall hanging sheet (limit 1 %; see the test) */
 #define SIM_HANG_MAX_STRAIN 0.011f
 #define SIM_HANG_P99_STRAIN 0.0103f
-/* the pushed sheet: 3.7 % (2.9 % before the hierarchy's velocity modification and 50 settle
-   rounds, 3.3 % at the 1 % clamp), 6.1 % with the post rounds alone, 19.1 % without either */
-#define SIM_PUSH_MAX_STRAIN 0.05f
+/* the pushed sheet: 2.5 % with the strain retries (3.7 % before them; 2.9 % before the
+   hierarchy's velocity modification and 50 settle rounds, 3.3 % at the 1 % clamp), 6.1 % with the
+   post rounds alone, 19.1 % without either: within ARCHITECTURE.md's 3 % */
+#define SIM_PUSH_MAX_STRAIN 0.03f
 
 static void drape_reaches_rest(sim_backend b, sim_solver solver)
 {
@@ -193,8 +194,10 @@ static void test_sim_hanging_sheet_held_at_limit(void **state)
 /* A ball (r 0.12 m) pushing into a hanging 32x32 sheet at 1.5 m/s: the last contact push of a
  * frame moves the touching points by about the speed times the step, which the
  * SIM_POST_ROUNDS rounds after the hierarchy and the settle rounds take out again (docs/sim.md).
- * Measured worst max strain over frames 10-29 (C): 3.3 % with both, 6.1 % without the settle
- * rounds, 19.1 % without either. The backends give the same sheet, settle rounds and all. */
+ * Worst max strain over frames 10-29: SIM_PUSH_MAX_STRAIN's note; the strain retries (frames
+ * over 3 % max / 1 % p99 done again with more iterations, sim.c) retry some frames. The backends
+ * give the same sheet, settle rounds, retries and all (the OpenCL backend once swapped the body's
+ * frames again on a retry). */
 static void test_sim_pushed_sheet_strain(void **state)
 {
     (void)state;
@@ -219,7 +222,7 @@ static void test_sim_pushed_sheet_strain(void **state)
     for (int i = 0; i < bnt * 3; i++)
         tris[6 + i] = btris[i] + 4;
     sim_backend bs[2];
-    int n = simt_backends(bs), settle_first = -1;
+    int n = simt_backends(bs), settle_first = -1, retried_first = -1;
     float *first = NULL;
     for (int k = 0; k < n; k++) {
         sim_desc d = sim_default_desc();
@@ -228,7 +231,7 @@ static void test_sim_pushed_sheet_strain(void **state)
         assert_non_null(s);
         sim_frame_stats st = {0};
         float worst_max = 0.0f;
-        int settle = 0;
+        int settle = 0, retried = 0;
         for (int f = 0; f < FRAMES; f++) {
             float dz = 1.5f * (float)f * d.frame_dt_s;
             for (int i = 0; i < bnv; i++) {
@@ -242,18 +245,21 @@ static void test_sim_pushed_sheet_strain(void **state)
             assert_int_equal(st.penetrating, 0);
             assert_true(st.settle_rounds >= 0 && st.settle_rounds <= SIM_SETTLE_ROUNDS);
             settle += st.settle_rounds;
+            retried += st.strain_retries > 0;
         }
-        printf("# %s pushed sheet: worst max strain %.4f, %d settle rounds\n",
-               simt_backend_name(bs[k]), worst_max, settle);
+        printf("# %s pushed sheet: worst max strain %.4f, %d settle rounds, %d frames retried\n",
+               simt_backend_name(bs[k]), worst_max, settle, retried);
         assert_true(simt_all_finite(s));
         assert_true(worst_max < SIM_PUSH_MAX_STRAIN);
         assert_true(settle > 0);
+        assert_true(retried > 0);
         size_t nx = (size_t)sim_vertex_count(s) * 4;
         if (k == 0) {
             first = malloc(nx * sizeof *first);
             assert_non_null(first);
             memcpy(first, sim_positions(s), nx * sizeof *first);
             settle_first = settle;
+            retried_first = retried;
         } else {
             float worst = 0.0f;
             for (size_t i = 0; i < nx; i++)
@@ -262,6 +268,7 @@ static void test_sim_pushed_sheet_strain(void **state)
                    simt_backend_name(bs[k]), (double)worst);
             assert_true(worst <= 1e-4f); /* test_cl_backend's tolerance */
             assert_int_equal(settle, settle_first);
+            assert_int_equal(retried, retried_first);
         }
         sim_destroy(s);
     }
