@@ -21,13 +21,14 @@ typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
     int verts, body_verts, iterations, frames, group, ref_iterations, compare_ref;
     sim_desc desc;
-    int no_ref;
+    int no_ref, window_ref;
 } bench_opts;
 
 typedef struct bench_run {
     float *ms; /* per frame */
     sim_frame_stats *st;
     float *snap; /* frames / BENCH_REF_EVERY snapshots of nv * 3 */
+    float *vel;  /* the velocities (m/s) at the same frames */
     int nv, nsnap, diverged_frames;
     char device[96];
 } bench_run;
@@ -45,10 +46,12 @@ static void usage(void)
         "         [--strain-limit S (the clamp, default 0.0075)]\n"
         "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
         "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
-        "         [--ref-iterations N (default %d)] [--compare-ref M]\n"
+        "         [--ref-iterations N (default %d)] [--compare-ref M] [--window-ref]\n"
+        "--window-ref: also the error to references restarted from the run's own state at\n"
+        "              every snapshot (every %d frames; not cached)\n"
         "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
         "                 in all and per motion (each computed once into the cache)\n",
-        BENCH_REF_ITERATIONS);
+        BENCH_REF_ITERATIONS, BENCH_REF_EVERY);
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -64,7 +67,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int used = 1;
-        if (!v && strcmp(a, "--no-ref") != 0) {
+        if (!v && strcmp(a, "--no-ref") != 0 && strcmp(a, "--window-ref") != 0) {
             usage();
             return -1;
         }
@@ -106,6 +109,9 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
         else if (strcmp(a, "--no-ref") == 0) {
             o->no_ref = 1;
+            used = 0;
+        } else if (strcmp(a, "--window-ref") == 0) {
+            o->window_ref = 1;
             used = 0;
         } else {
             usage();
@@ -157,10 +163,14 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
     return 0;
 }
 
-static int run(const bench_opts *o, const sim_desc *desc, int keep_stats, bench_run *out)
+/* The scene run with desc; snapshots (positions and velocities) every BENCH_REF_EVERY frames.
+ * restart: after each snapshot the state becomes restart's at that frame (the windowed
+ * reference: each window of BENCH_REF_EVERY frames starts from the measured run's state). */
+static int run(const bench_opts *o, const sim_desc *desc, const bench_run *restart, bench_run *out)
 {
     sim_scene *sc = NULL;
     sim_garment g = {0};
+    memset(out, 0, sizeof *out);
     if (make_scene(o, &sc, &g) < 0) {
         sim_scene_destroy(sc);
         sim_garment_free(&g);
@@ -174,14 +184,16 @@ static int run(const bench_opts *o, const sim_desc *desc, int keep_stats, bench_
         sim_scene_destroy(sc);
         return -1;
     }
-    memset(out, 0, sizeof *out);
     out->nv = sim_vertex_count(s);
     snprintf(out->device, sizeof out->device, "%s", sim_device_name(s));
     out->nsnap = o->frames / BENCH_REF_EVERY;
     out->snap = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->snap);
+    out->vel = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->vel);
     out->ms = calloc((size_t)o->frames, sizeof *out->ms);
     out->st = calloc((size_t)o->frames, sizeof *out->st);
-    int r = (out->snap && out->ms && out->st) ? 0 : -1;
+    int r = (out->snap && out->vel && out->ms && out->st) ? 0 : -1;
+    if (restart && (restart->nv != out->nv || restart->nsnap != out->nsnap))
+        r = -1;
     for (int f = 0; f < o->frames && r == 0; f++) {
         const float *xyz, *joints;
         const int32_t *tris;
@@ -196,11 +208,16 @@ static int run(const bench_opts *o, const sim_desc *desc, int keep_stats, bench_
             r = -1;
         }
         out->ms[f] = out->st[f].ms_total;
-        if ((f + 1) % BENCH_REF_EVERY == 0 && (f + 1) / BENCH_REF_EVERY <= out->nsnap)
-            sim_copy_positions(s,
-                               out->snap + (size_t)((f + 1) / BENCH_REF_EVERY - 1) * out->nv * 3);
+        if ((f + 1) % BENCH_REF_EVERY == 0 && (f + 1) / BENCH_REF_EVERY <= out->nsnap) {
+            size_t at = (size_t)((f + 1) / BENCH_REF_EVERY - 1) * out->nv * 3;
+            sim_copy_positions(s, out->snap + at);
+            sim_copy_velocities(s, out->vel + at);
+            if (restart && sim_set_state(s, restart->snap + at, restart->vel + at, &why) < 0) {
+                fprintf(stderr, "tryon-bench-sim: restart at frame %d: %s\n", f, why.detail);
+                r = -1;
+            }
+        }
     }
-    (void)keep_stats;
     sim_destroy(s);
     sim_scene_destroy(sc);
     return r;
@@ -208,6 +225,7 @@ static int run(const bench_opts *o, const sim_desc *desc, int keep_stats, bench_
 
 static void run_free(bench_run *r)
 {
+    free(r->vel);
     free(r->ms);
     free(r->st);
     free(r->snap);
@@ -231,6 +249,37 @@ static uint32_t garment_hash(const bench_opts *o)
     sim_scene_destroy(sc);
     sim_garment_free(&g);
     return h;
+}
+
+/* The reference's model: the tryon solver on C with iters steps a frame in the world frame. */
+static sim_desc ref_desc(const bench_opts *o, int iters)
+{
+    sim_desc d = o->desc;
+    d.backend = SIM_BACKEND_C;
+    d.solver = SIM_SOLVER_TRYON;
+    d.iterations = iters;
+    d.follow = -1.0f; /* the world frame: the physics without the moving frame's shortcut */
+    d.support = 0;    /* and the same reference whether or not the run has the support pass */
+    d.retry_max_strain = d.retry_p99_strain = -1.0f; /* or the strain retries */
+    return d;
+}
+
+/* The windowed reference: ref_desc(iters) restarted from the measured run's state at every
+ * snapshot, so each snapshot is where the reference goes in the BENCH_REF_EVERY frames since the
+ * last one from where the run was (docs/sim.md, "Error over a window"). NULL on failure. */
+static float *window_reference(const bench_opts *o, int iters, const bench_run *measured)
+{
+    sim_desc d = ref_desc(o, iters);
+    bench_run rr = {0};
+    fprintf(stderr, "tryon-bench-sim: the windowed reference (%d iterations)\n", iters);
+    if (run(o, &d, measured, &rr) < 0) {
+        run_free(&rr);
+        return NULL;
+    }
+    float *snap = rr.snap;
+    rr.snap = NULL;
+    run_free(&rr);
+    return snap;
 }
 
 /* The reference: the tryon solver on C with `iters` iterations (smaller steps) in the world
@@ -267,15 +316,9 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
         return NULL;
     fprintf(stderr, "tryon-bench-sim: computing the reference (%d iterations) into %s\n", iters,
             path);
-    sim_desc d = o->desc;
-    d.backend = SIM_BACKEND_C;
-    d.solver = SIM_SOLVER_TRYON;
-    d.iterations = iters;
-    d.follow = -1.0f; /* the world frame: the physics without the moving frame's shortcut */
-    d.support = 0;    /* and the same reference whether or not the run has the support pass */
-    d.retry_max_strain = d.retry_p99_strain = -1.0f; /* or the strain retries */
+    sim_desc d = ref_desc(o, iters);
     bench_run rr = {0};
-    if (run(o, &d, 0, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
+    if (run(o, &d, NULL, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
         run_free(&rr);
         return NULL;
     }
@@ -417,7 +460,7 @@ int main(int argc, char **argv)
     if (o.compare_ref > 0)
         return compare_refs(&o);
     bench_run r;
-    if (run(&o, &o.desc, 1, &r) < 0)
+    if (run(&o, &o.desc, NULL, &r) < 0)
         return 1;
     print_groups(&o, &r);
     if (o.csv)
@@ -453,9 +496,16 @@ int main(int argc, char **argv)
     float *half = ref ? reference(&o, o.ref_iterations / 2, r.nsnap, &nv_ref, 0) : NULL;
     double ref_unc_mm = half ? rms_mm(&o, ref, half, r.nv, r.nsnap, -1) : -1.0;
     free(half);
+    /* --window-ref: the same over windows of BENCH_REF_EVERY frames from the run's own state,
+     * and that reference's uncertainty likewise (half its iterations, from the same states) */
+    float *win = !o.no_ref && o.window_ref ? window_reference(&o, o.ref_iterations, &r) : NULL;
+    float *win_half = win ? window_reference(&o, o.ref_iterations / 2, &r) : NULL;
+    double win_mm = win ? rms_mm(&o, r.snap, win, r.nv, r.nsnap, -1) : -1.0;
+    double win_unc_mm = win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, -1) : -1.0;
     if (is_all_body(&o)) {
         /* per motion: strain after the settling frames, error against the reference */
-        printf("%-10s %9s %8s %9s\n", "motion", "strain%", "p99%", "error_mm");
+        printf("%-10s %9s %8s %9s %9s %9s\n", "motion", "strain%", "p99%", "error_mm", "window_mm",
+               "win_unc");
         for (int m = 0; m < sim_scene_segment_count(); m++) {
             float mx = 0, p = 0;
             int seen = 0;
@@ -467,11 +517,15 @@ int main(int argc, char **argv)
                 }
             if (!seen)
                 continue; /* --frames stopped before this motion */
-            printf("%-10s %9.2f %8.2f %9.2f\n", sim_scene_segment_name(m), mx * 100.0f, p * 100.0f,
-                   ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0);
+            printf("%-10s %9.2f %8.2f %9.2f %9.2f %9.2f\n", sim_scene_segment_name(m), mx * 100.0f,
+                   p * 100.0f, ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0,
+                   win ? rms_mm(&o, r.snap, win, r.nv, r.nsnap, m) : -1.0,
+                   win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, m) : -1.0);
         }
     }
     free(ref);
+    free(win);
+    free(win_half);
     /* the moving frame in effect (sim.h: 0 = 1, < 0 = none; the seed and garments with fewer
        than 3 attachments, such as the drape, have none) */
     float follow = o.desc.follow == 0.0f ? 1.0f : fmaxf(o.desc.follow, 0.0f);
@@ -488,13 +542,14 @@ int main(int argc, char **argv)
            "\"recovered_frames\":%d,\"diverged_frames\":%d,\"stretch_n_m\":%g,"
            "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
            "\"follow\":%g,\"settle_frames\":%d,\"support\":%d,\"strain_retry\":%d,"
-           "\"strain_retried_frames\":%d}\n",
+           "\"strain_retried_frames\":%d,\"cloth_error_window_mm\":%.2f,"
+           "\"window_uncertainty_mm\":%.2f}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
-           follow, settled, support, strain_retry, strain_retried);
+           follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm);
     run_free(&r);
     return 0;
 }

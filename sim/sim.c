@@ -321,6 +321,7 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
         return NULL;
     }
     save_good(s);
+    s->iters_good = d.iterations;
     memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
 
     char err[160] = "";
@@ -571,6 +572,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     st->max_pen_mm = depth * 1000.0f;
     keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
     s->excess_good = excess;
+    s->iters_good = iters;
     double t3 = now_ms();
     st->ms_metrics = (float)(t3 - t2);
     st->ms_total = (float)(t3 - t0);
@@ -597,6 +599,14 @@ void sim_copy_positions(const sim *s, float *xyz)
     for (int i = 0; i < s->cloth.nv; i++)
         for (int d = 0; d < 3; d++)
             xyz[i * 3 + d] = s->cloth.x[i][d];
+}
+
+void sim_copy_velocities(const sim *s, float *vel)
+{
+    float inv_dt = (float)s->iters_good / s->desc.frame_dt_s;
+    for (int i = 0; i < s->cloth.nv; i++)
+        for (int d = 0; d < 3; d++)
+            vel[i * 3 + d] = (s->cloth.x[i][d] - s->cloth.x_prev[i][d]) * inv_dt;
 }
 
 const int32_t *sim_triangles(const sim *s)
@@ -626,18 +636,29 @@ void sim_debug_set_vertex(sim *s, int i, float x, float y, float z)
 
 int sim_set_positions(sim *s, const float *xyz, sim_reject *why)
 {
+    return sim_set_state(s, xyz, NULL, why);
+}
+
+int sim_set_state(sim *s, const float *xyz, const float *vel, sim_reject *why)
+{
     if (!s || !xyz)
-        return sim_reject_set(why, SIM_ERR_ARG, "sim_set_positions: NULL");
+        return sim_reject_set(why, SIM_ERR_ARG, "sim_set_state: NULL");
     for (int i = 0; i < s->cloth.nv * 3; i++)
-        if (!isfinite(xyz[i]))
-            return sim_reject_set(why, SIM_ERR_NOT_FINITE, "position %d coordinate %d = %g", i / 3,
-                                  i % 3, xyz[i]);
+        if (!isfinite(xyz[i]) || (vel && !isfinite(vel[i])))
+            return sim_reject_set(why, SIM_ERR_NOT_FINITE, "%s %d coordinate %d = %g",
+                                  isfinite(xyz[i]) ? "velocity" : "position", i / 3, i % 3,
+                                  isfinite(xyz[i]) ? vel[i] : xyz[i]);
+    /* Verlet's velocity is the last step's move: this sim's step */
+    float dt = s->desc.frame_dt_s / (float)s->desc.iterations;
     for (int i = 0; i < s->cloth.nv; i++) {
         if (s->cloth.x[i][3] == 0.0f)
             continue; /* attached vertices stay where the body puts them */
-        for (int d = 0; d < 3; d++)
-            s->cloth.x[i][d] = s->cloth.x_prev[i][d] = xyz[i * 3 + d];
+        for (int d = 0; d < 3; d++) {
+            s->cloth.x[i][d] = xyz[i * 3 + d];
+            s->cloth.x_prev[i][d] = xyz[i * 3 + d] - (vel ? vel[i * 3 + d] * dt : 0.0f);
+        }
     }
     save_good(s);
+    s->iters_good = s->desc.iterations;
     return s->ops->upload(s->backend, s);
 }

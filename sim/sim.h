@@ -173,13 +173,19 @@ int sim_vertex_count(const sim *s);
 int sim_triangle_count(const sim *s);
 const float *sim_positions(const sim *s);          /* [vertex][4]: xyz, w = inverse mass */
 void sim_copy_positions(const sim *s, float *xyz); /* [vertex][3] */
-const int32_t *sim_triangles(const sim *s);        /* [triangle][3] */
-const char *sim_device_name(const sim *s); /* "C reference (2 threads)", the OpenCL device */
+/* [vertex][3]: m/s, the last step's move of the last frame published over its step */
+void sim_copy_velocities(const sim *s, float *vel);
+const int32_t *sim_triangles(const sim *s); /* [triangle][3] */
+const char *sim_device_name(const sim *s);  /* "C reference (2 threads)", the OpenCL device */
 const sim_desc *sim_get_desc(const sim *s);
 
 /* Replace the cloth state (xyz: [vertex][3], at rest: previous = current), e.g. to restart a
  * garment or start from a scrambled state; the rest shape stays the garment's. */
 int sim_set_positions(sim *s, const float *xyz, sim_reject *why);
+/* The same with velocities (vel: [vertex][3], m/s; NULL = at rest), e.g. another sim's state
+ * (sim_copy_positions, sim_copy_velocities) to go on from with other steps. Attached vertices
+ * keep their places in both. */
+int sim_set_state(sim *s, const float *xyz, const float *vel, sim_reject *why);
 
 /* Test hook: overwrite one vertex (to inject NaN or a far jump). */
 void sim_debug_set_vertex(sim *s, int i, float x, float y, float z);

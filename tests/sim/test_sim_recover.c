@@ -214,6 +214,79 @@ static void test_sim_strain_retry(void **state)
     sim_scene_destroy(sphere);
 }
 
+/* A state handed from one sim to another (sim_copy_positions, sim_copy_velocities,
+ * sim_set_state: the bench's windowed reference) goes on as the first would: the same cloth
+ * after more frames, the same velocities whatever the receiver's step; a NaN velocity is refused
+ * and the state kept. */
+static void test_sim_state_hand_over(void **state)
+{
+    (void)state;
+    sim_backend bs[2];
+    int n = simt_backends(bs);
+    sim_scene *sc = simt_sphere();
+    for (int k = 0; k < n; k++) {
+        sim *a = simt_drape(bs[k], SIM_SOLVER_TRYON, 12, NULL);
+        sim *b = simt_drape(bs[k], SIM_SOLVER_TRYON, 12, NULL);
+        sim_desc d = sim_default_desc();
+        d.iterations = 50;
+        sim *c = simt_drape(bs[k], SIM_SOLVER_TRYON, 12, &d);
+        assert_non_null(a);
+        assert_non_null(b);
+        assert_non_null(c);
+        sim_frame_stats st;
+        int r, nv = sim_vertex_count(a);
+        for (int f = 0; f < 7; f++)
+            step_sphere_at(a, sc, f, &st, &r);
+        float *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
+        float *vel = malloc((size_t)nv * 3 * sizeof *vel);
+        float *got = malloc((size_t)nv * 3 * sizeof *got);
+        assert_non_null(xyz);
+        assert_non_null(vel);
+        assert_non_null(got);
+        sim_copy_positions(a, xyz);
+        sim_copy_velocities(a, vel);
+        float vmax = 0.0f;
+        for (int i = 0; i < nv * 3; i++)
+            vmax = fmaxf(vmax, fabsf(vel[i]));
+        assert_true(vmax > 0.5f); /* still falling or landing: a state worth handing over */
+        for (sim **to = (sim *[]){b, c, NULL}; *to; to++) {
+            assert_int_equal(sim_set_state(*to, xyz, vel, NULL), 0);
+            sim_copy_velocities(*to, got);
+            float dv = 0.0f;
+            for (int i = 0; i < nv * 3; i++)
+                dv = fmaxf(dv, fabsf(got[i] - vel[i]));
+            assert_true(dv < 1e-3f * vmax);
+        }
+        /* b takes a's steps: the same cloth 5 frames on */
+        for (int f = 7; f < 12; f++) {
+            step_sphere_at(a, sc, f, &st, &r);
+            step_sphere_at(b, sc, f, &st, &r);
+        }
+        float dx = 0.0f;
+        for (int i = 0; i < nv; i++)
+            for (int j = 0; j < 3; j++)
+                dx = fmaxf(dx, fabsf(sim_positions(a)[i * 4 + j] - sim_positions(b)[i * 4 + j]));
+        printf("# %s: handed over at frame 7 at up to %.2f m/s: %.3g m apart 5 frames on\n",
+               simt_backend_name(bs[k]), (double)vmax, (double)dx);
+        assert_true(dx < 1e-4f);
+        /* a NaN velocity is refused, the state kept */
+        sim_copy_positions(b, xyz);
+        vel[5] = NAN;
+        sim_reject why = {0};
+        assert_int_equal(sim_set_state(b, xyz, vel, &why), -SIM_ERR_NOT_FINITE);
+        printf("# %s\n", why.detail);
+        sim_copy_positions(b, got);
+        assert_memory_equal(got, xyz, (size_t)nv * 3 * sizeof *xyz);
+        free(xyz);
+        free(vel);
+        free(got);
+        sim_destroy(a);
+        sim_destroy(b);
+        sim_destroy(c);
+    }
+    sim_scene_destroy(sc);
+}
+
 /* Gravity of 1e7 m/s^2 blows up at any step size: the frame is reported DIVERGED, the error
  * named, and the cloth published stays the last good one. */
 static void test_sim_unrecoverable_is_reported_not_published(void **state)
@@ -273,6 +346,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_injected_nan_is_recovered),
         cmocka_unit_test(test_sim_strain_retry),
+        cmocka_unit_test(test_sim_state_hand_over),
         cmocka_unit_test(test_sim_unrecoverable_is_reported_not_published),
         cmocka_unit_test(test_sim_absurd_stiffness_stays_finite),
     };
