@@ -17,21 +17,23 @@ run() { "$BENCH" --cache-dir "$OUT" "$@" | tail -n 1; }
 # 1. the headline: body scene, all motions (16.5 s), 7,000 vertices, 25 iterations
 if want body; then
 : > "$OUT/body.jsonl"
-run --scene body --verts 7000 --iterations 25 --solver tryon --backend c >> "$OUT/body.jsonl"
+run --scene body --verts 7000 --iterations 25 --solver tryon --backend c --window-ref \
+    >> "$OUT/body.jsonl"
 run --scene body --verts 7000 --iterations 25 --solver tryon --backend opencl \
     >> "$OUT/body.jsonl" || true
 run --scene body --verts 7000 --frames 60 --iterations 25 --solver seed --backend c \
     >> "$OUT/body.jsonl"
 fi
 
-# 2. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (200)
+# 2. iterations 5..60, body scene (7,000 vertices, 150 frames), one reference for all (200);
+#    the C backend also against references restarted from its own state every 10 frames
 if want iters; then
 : > "$OUT/iters.jsonl"
 # (the seed only at 25: it searches contacts every step and retries diverged frames with 2x
 # and 4x the iterations, minutes per run here)
 for it in 5 10 15 25 40 60; do
   run --scene body --verts 7000 --frames 150 --iterations $it \
-      --solver tryon --backend c >> "$OUT/iters.jsonl"
+      --solver tryon --backend c --window-ref >> "$OUT/iters.jsonl"
   run --scene body --verts 7000 --frames 150 --iterations $it \
       --solver tryon --backend opencl >> "$OUT/iters.jsonl" || true
 done
@@ -43,7 +45,8 @@ fi
 if want verts; then
 : > "$OUT/verts.jsonl"
 for n in 2000 4000 7056 15000 30000; do
-  run --scene drape --verts $n --iterations 25 --solver tryon --backend c >> "$OUT/verts.jsonl"
+  W=; [ $n = 7056 ] && W=--window-ref  # Bullet's size: also the windowed error
+  run --scene drape --verts $n --iterations 25 --solver tryon --backend c $W >> "$OUT/verts.jsonl"
   run --scene drape --verts $n --iterations 25 --solver tryon --backend opencl \
       >> "$OUT/verts.jsonl" || true
 done
@@ -89,9 +92,10 @@ for name, key in (('iters.jsonl', 'iterations'), ('verts.jsonl', 'verts')):
     for g, rs in groups.items():
         with open(os.path.join(out, name.split('.')[0] + '-' + g + '.dat'), 'w') as f:
             for r in sorted(rs, key=lambda r: r[key]):
-                f.write('%d %.3f %.3f %.5f %.5f %.2f\n' % (r[key], r['ms_median'],
+                w = r.get('cloth_error_window_mm', -1)
+                f.write('%d %.3f %.3f %.5f %.5f %.2f %s\n' % (r[key], r['ms_median'],
                         r['ms_median_no_metrics'], r['max_strain'], r['p99_strain'],
-                        r['cloth_error_mm']))
+                        r['cloth_error_mm'], '%.2f' % w if w >= 0 else 'NaN'))
 with open(os.path.join(out, 'verts-bullet.dat'), 'w') as f:
     for r in sorted((r for r in rows('bullet.jsonl') if r['margin_mm'] == 4),
                     key=lambda r: r['verts']):
@@ -123,7 +127,8 @@ set logscale x
 set xlabel "ms per frame (median, all work; log)"
 set ylabel "cloth error, mm (RMS to the 200-iteration reference)"
 plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:6 w lp t g, \
-     "$OUT/iters-tryon-c.dat" u 2:6:1 w labels offset 1,0.5 notitle
+     "$OUT/iters-tryon-c.dat" u 2:6:1 w labels offset 1,0.5 notitle, \
+     "$OUT/iters-tryon-c.dat" u 2:7 w lp dt 2 t "tryon-c, 10-frame windows"
 set ylabel "max stretch strain after 1 s"
 plot for [g in "tryon-c seed-c tryon-opencl"] "$OUT/iters-".g.".dat" u 2:4 w lp t g
 unset multiplot
