@@ -444,6 +444,19 @@ static void restore_good(sim *s)
     s->ops->upload(s->backend, s);
 }
 
+/* x_prev, which holds the velocity as the last step's move, made the move of a step of another
+   length (a frame of `from` steps to one of `to`): the same velocity. Attached vertices too (the
+   driver places them; their x_prev is only read as their previous place). */
+static void restep_velocity(sim *s, int from, int to)
+{
+    float r = (float)from / (float)to;
+    for (int i = 0; i < s->cloth.nv; i++)
+        for (int d = 0; d < 3; d++)
+            s->cloth.x_prev[i][d] =
+                s->cloth.x[i][d] - (s->cloth.x[i][d] - s->cloth.x_prev[i][d]) * r;
+    s->ops->upload(s->backend, s);
+}
+
 /* The stage times of every attempt of a frame add up. */
 static void add_stage_times(sim_frame_stats *sum, const sim_frame_stats *st)
 {
@@ -512,6 +525,9 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     float excess = 0.0f, best_excess = INFINITY;
     sim_frame_stats sum = {0};
     for (int attempt = 0; attempt <= SIM_MAX_RETRIES; attempt++) {
+        /* the good state's velocity is its last step's move: for another step, that step's */
+        if (iters != s->iters_good)
+            restep_velocity(s, s->iters_good, iters);
         r = s->ops->frame(s->backend, s, iters, st);
         add_stage_times(&sum, st);
         int good = r == 0 && !state_diverged(s, iters, &max_strain, &p99);
