@@ -12,17 +12,6 @@
 #include "scene.h"
 #include "sim_test_util.h"
 
-static void step_sphere(sim *s, sim_scene *sc, int frames, sim_frame_stats *st, int *ret)
-{
-    for (int f = 0; f < frames; f++) {
-        const float *xyz, *joints;
-        const int32_t *tris;
-        int nv, nt;
-        sim_scene_eval(sc, f / 30.0, &xyz, &nv, &tris, &nt, &joints);
-        *ret = sim_step(s, xyz, nv, tris, nt, st, NULL);
-    }
-}
-
 /* Frame f of the sphere scene. */
 static void step_sphere_at(sim *s, sim_scene *sc, int f, sim_frame_stats *st, int *ret)
 {
@@ -31,6 +20,12 @@ static void step_sphere_at(sim *s, sim_scene *sc, int f, sim_frame_stats *st, in
     int nv, nt;
     sim_scene_eval(sc, f / 30.0, &xyz, &nv, &tris, &nt, &joints);
     *ret = sim_step(s, xyz, nv, tris, nt, st, NULL);
+}
+
+static void step_sphere(sim *s, sim_scene *sc, int frames, sim_frame_stats *st, int *ret)
+{
+    for (int f = 0; f < frames; f++)
+        step_sphere_at(s, sc, f, st, ret);
 }
 
 static void test_sim_injected_nan_is_recovered(void **state)
