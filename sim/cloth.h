@@ -100,7 +100,7 @@ struct sim {
     void *backend;
     float (*x_good)[4]; /* last published (good) state, restored on divergence */
     float (*x_prev_good)[4];
-    float (*x_best)[4]; /* the least stretched attempt of a frame retried for its strain */
+    float (*x_best)[4]; /* the attempt nearest the strain goals of a frame retried for them */
     float (*x_prev_best)[4];
     float *scratch;    /* ns floats: strains for the percentile */
     int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
