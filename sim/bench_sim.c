@@ -7,19 +7,24 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "collide.h"
 #include "scene.h"
 #include "sim.h"
 
 #define BENCH_SETTLE_FRAMES  30  /* strain and error are judged after the first second */
 #define BENCH_REF_EVERY      10  /* the reference keeps every tenth frame */
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
+/* The body scene's body detail: the body model at 6,000 vertices is 0.74 mm RMS from the same
+ * body at 30,000 where the camera knows the body to about a centimetre, and the shirt on it is as
+ * near the reference on the 10,000-vertex body as on its own (docs/sim.md, "Body detail"). */
+#define BENCH_BODY_VERTS 6000
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
 #define BENCH_REF_VERSION 8
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
-    int verts, body_verts, iterations, frames, group, ref_iterations, compare_ref;
+    int verts, body_verts, ref_body_verts, iterations, frames, group, ref_iterations, compare_ref;
     sim_desc desc;
     int no_ref, window_ref;
 } bench_opts;
@@ -30,6 +35,7 @@ typedef struct bench_run {
     float *snap; /* frames / BENCH_REF_EVERY snapshots of nv * 3 */
     float *vel;  /* the velocities (m/s) at the same frames */
     int nv, nsnap, diverged_frames;
+    int body_nv; /* the body's vertices (the sphere's for the drape) */
     char device[96];
 } bench_run;
 
@@ -39,7 +45,8 @@ static void usage(void)
         stderr,
         "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
         "[--frames F]\n"
-        "         [--body-verts N (body model, 0 = its default)]\n"
+        "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
+        "         [--ref-body-verts N (the references' body model, 0 = the run's)]\n"
         "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
@@ -51,7 +58,7 @@ static void usage(void)
         "              every snapshot (every %d frames; not cached)\n"
         "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
         "                 in all and per motion (each computed once into the cache)\n",
-        BENCH_REF_ITERATIONS, BENCH_REF_EVERY);
+        BENCH_BODY_VERTS, BENCH_REF_ITERATIONS, BENCH_REF_EVERY);
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -59,6 +66,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     *o = (bench_opts){.scene = "drape",
                       .motion = "all",
                       .verts = 7056,
+                      .body_verts = BENCH_BODY_VERTS,
                       .iterations = 25,
                       .frames = 0,
                       .group = 10,
@@ -77,6 +85,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->verts = atoi(v);
         else if (strcmp(a, "--body-verts") == 0)
             o->body_verts = atoi(v);
+        else if (strcmp(a, "--ref-body-verts") == 0)
+            o->ref_body_verts = atoi(v);
         else if (strcmp(a, "--iterations") == 0)
             o->iterations = atoi(v);
         else if (strcmp(a, "--frames") == 0)
@@ -163,10 +173,13 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
     return 0;
 }
 
-/* The scene run with desc; snapshots (positions and velocities) every BENCH_REF_EVERY frames.
- * restart: after each snapshot the state becomes restart's at that frame (the windowed
- * reference: each window of BENCH_REF_EVERY frames starts from the measured run's state). */
-static int run(const bench_opts *o, const sim_desc *desc, const bench_run *restart, bench_run *out)
+/* The scene run with desc, the garment made on the body of --body-verts, the body frames from
+ * one of body_verts (the references' body detail: --ref-body-verts); snapshots (positions and
+ * velocities) every BENCH_REF_EVERY frames. restart: after each snapshot the state becomes
+ * restart's at that frame (the windowed reference: each window of BENCH_REF_EVERY frames starts
+ * from the measured run's state). */
+static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const bench_run *restart,
+               bench_run *out)
 {
     sim_scene *sc = NULL;
     sim_garment g = {0};
@@ -175,6 +188,30 @@ static int run(const bench_opts *o, const sim_desc *desc, const bench_run *resta
         sim_scene_destroy(sc);
         sim_garment_free(&g);
         return -1;
+    }
+    if (strcmp(o->scene, "body") == 0 && body_verts != o->body_verts) {
+        /* the same garment, its attachments glued to the other body in the same pose */
+        char err[160] = "";
+        sim_scene *other = sim_scene_body(o->motion, body_verts, err, sizeof err);
+        const float *xa, *xb;
+        const int32_t *ta, *tb;
+        int nva, nta, nvb, ntb;
+        sim_reject why = {0};
+        int e = other ? 0 : -1;
+        if (other) {
+            sim_scene_eval(sc, 0.0, &xa, &nva, &ta, &nta, NULL);
+            sim_scene_eval(other, 0.0, &xb, &nvb, &tb, &ntb, NULL);
+            e = sim_garment_rebind(&g, xa, nva, ta, nta, xb, nvb, tb, ntb, &why);
+            snprintf(err, sizeof err, "%s", why.detail);
+        }
+        sim_scene_destroy(sc);
+        sc = other;
+        if (e < 0) {
+            fprintf(stderr, "tryon-bench-sim: the references' body: %s\n", err);
+            sim_scene_destroy(sc);
+            sim_garment_free(&g);
+            return -1;
+        }
     }
     sim_reject why = {0};
     sim *s = sim_create(desc, &g, &why);
@@ -199,6 +236,7 @@ static int run(const bench_opts *o, const sim_desc *desc, const bench_run *resta
         const int32_t *tris;
         int nv, nt;
         sim_scene_eval(sc, (double)f * desc->frame_dt_s, &xyz, &nv, &tris, &nt, &joints);
+        out->body_nv = nv;
         int e = sim_step(s, xyz, nv, tris, nt, &out->st[f], &why);
         if (e == -SIM_ERR_DIVERGED)
             out->diverged_frames++;
@@ -264,6 +302,13 @@ static sim_desc ref_desc(const bench_opts *o, int iters)
     return d;
 }
 
+/* The body detail the references run on. */
+static int ref_body(const bench_opts *o)
+{
+    return o->ref_body_verts > 0 && strcmp(o->scene, "body") == 0 ? o->ref_body_verts
+                                                                  : o->body_verts;
+}
+
 /* The windowed reference: ref_desc(iters) restarted from the measured run's state at every
  * snapshot, so each snapshot is where the reference goes in the BENCH_REF_EVERY frames since the
  * last one from where the run was (docs/sim.md, "Error over a window"). NULL on failure. */
@@ -272,7 +317,7 @@ static float *window_reference(const bench_opts *o, int iters, const bench_run *
     sim_desc d = ref_desc(o, iters);
     bench_run rr = {0};
     fprintf(stderr, "tryon-bench-sim: the windowed reference (%d iterations)\n", iters);
-    if (run(o, &d, measured, &rr) < 0) {
+    if (run(o, &d, ref_body(o), measured, &rr) < 0) {
         run_free(&rr);
         return NULL;
     }
@@ -288,9 +333,11 @@ static float *window_reference(const bench_opts *o, int iters, const bench_run *
  * the cache only (NULL when it is not there). */
 static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
 {
-    char path[512], limit[32] = ""; /* another strain limit is another model */
+    char path[512], limit[48] = ""; /* another strain limit is another model */
     if (o->desc.strain_limit != 0.0f && o->desc.strain_limit != sim_default_desc().strain_limit)
         snprintf(limit, sizeof limit, "-limit%g", o->desc.strain_limit);
+    if (ref_body(o) != o->body_verts) /* the same garment on a body of other detail */
+        snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-body%d", ref_body(o));
     snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x%s.bin", o->cache_dir,
              BENCH_REF_VERSION, o->scene, o->motion, o->verts, iters, o->frames,
              o->desc.fabric.stretch_n_m, o->desc.fabric.bend_n_m, (unsigned)garment_hash(o), limit);
@@ -318,7 +365,7 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
             path);
     sim_desc d = ref_desc(o, iters);
     bench_run rr = {0};
-    if (run(o, &d, NULL, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
+    if (run(o, &d, ref_body(o), NULL, &rr) < 0 || (*nv > 0 && rr.nv != *nv)) {
         run_free(&rr);
         return NULL;
     }
@@ -363,6 +410,95 @@ static double rms_mm(const bench_opts *o, const float *a, const float *b, int nv
         cnt += nv;
     }
     return cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
+}
+
+/* The garment's triangles as the BVH takes them, and per vertex one triangle that holds it (the
+ * hint of its nearest-point search on the other mesh). */
+typedef struct bench_mesh {
+    int32_t (*tris)[4];
+    int32_t *vertex_tri;
+    int nt, nv;
+} bench_mesh;
+
+static void mesh_free(bench_mesh *m)
+{
+    free(m->tris);
+    free(m->vertex_tri);
+    memset(m, 0, sizeof *m);
+}
+
+static int mesh_of_garment(const bench_opts *o, bench_mesh *m)
+{
+    sim_scene *sc = NULL;
+    sim_garment g = {0};
+    memset(m, 0, sizeof *m);
+    int r = make_scene(o, &sc, &g);
+    sim_scene_destroy(sc);
+    if (r == 0) {
+        m->nt = g.num_triangles;
+        m->nv = g.num_vertices;
+        m->tris = calloc((size_t)m->nt + 1, sizeof *m->tris);
+        m->vertex_tri = calloc((size_t)m->nv + 1, sizeof *m->vertex_tri);
+        r = m->tris && m->vertex_tri ? 0 : -1;
+        for (int t = 0; r == 0 && t < m->nt; t++)
+            for (int k = 0; k < 3; k++) {
+                m->tris[t][k] = g.triangles[t * 3 + k];
+                m->vertex_tri[m->tris[t][k]] = t;
+            }
+    }
+    sim_garment_free(&g);
+    if (r < 0)
+        mesh_free(m);
+    return r;
+}
+
+/* Sum of squared distances (m^2) of the points of snapshot a to the surface of snapshot b. */
+static double surface_d2(const bench_mesh *m, sim_bvh *bvh, float (*pa)[4], float (*pb)[4],
+                         const float *a, const float *b)
+{
+    for (int i = 0; i < m->nv; i++)
+        for (int d = 0; d < 4; d++) {
+            pa[i][d] = d < 3 ? a[i * 3 + d] : 0.0f;
+            pb[i][d] = d < 3 ? b[i * 3 + d] : 0.0f;
+        }
+    sim_bvh_build(bvh, (const float(*)[4])pb, (const float(*)[4])pb, (const int32_t(*)[4])m->tris,
+                  m->nt, 0.0f);
+    double e2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : e2)
+    for (int i = 0; i < m->nv; i++) {
+        float q[3], bary[3], dist = 0.0f;
+        if (sim_bvh_nearest_from(bvh, (const float(*)[4])pb, (const int32_t(*)[4])m->tris, pa[i],
+                                 INFINITY, m->vertex_tri[i], q, bary, &dist) >= 0)
+            e2 += (double)dist * dist;
+    }
+    return e2;
+}
+
+/* As rms_mm, the distance of each garment's vertices to the other's surface (both ways): the
+ * shape's difference without the cloth's sliding along itself (docs/sim.md, "Shape error"). */
+static double shape_rms_mm(const bench_opts *o, const bench_mesh *m, const float *a, const float *b,
+                           int nsnap, int seg)
+{
+    sim_bvh bvh;
+    float(*pa)[4] = calloc((size_t)m->nv + 1, sizeof *pa);
+    float(*pb)[4] = calloc((size_t)m->nv + 1, sizeof *pb);
+    double e2 = 0.0;
+    long cnt = 0;
+    int ok = a && b && m->nt > 0 && pa && pb && sim_bvh_init(&bvh, m->nt) == 0;
+    for (int k = 0; ok && k < nsnap; k++) {
+        int f = (k + 1) * BENCH_REF_EVERY - 1;
+        if (f < BENCH_SETTLE_FRAMES || (seg >= 0 && frame_segment(o, f) != seg))
+            continue;
+        size_t at = (size_t)k * m->nv * 3;
+        e2 += surface_d2(m, &bvh, pa, pb, a + at, b + at) +
+              surface_d2(m, &bvh, pb, pa, b + at, a + at);
+        cnt += 2L * m->nv;
+    }
+    if (ok)
+        sim_bvh_free(&bvh);
+    free(pa);
+    free(pb);
+    return ok && cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
 }
 
 /* --compare-ref M: the distance between the references of --ref-iterations and of M. */
@@ -460,7 +596,7 @@ int main(int argc, char **argv)
     if (o.compare_ref > 0)
         return compare_refs(&o);
     bench_run r;
-    if (run(&o, &o.desc, NULL, &r) < 0)
+    if (run(&o, &o.desc, o.body_verts, NULL, &r) < 0)
         return 1;
     print_groups(&o, &r);
     if (o.csv)
@@ -489,6 +625,18 @@ int main(int argc, char **argv)
         settled += s->settle_rounds > 0;
     }
     int nv_ref = r.nv;
+    /* the references' body detail, as run (the run's own unless --ref-body-verts) */
+    int ref_body_nv = r.body_nv;
+    if (!o.no_ref && ref_body(&o) != o.body_verts) {
+        char err[160] = "";
+        sim_scene *rb = sim_scene_body(o.motion, ref_body(&o), err, sizeof err);
+        const float *xyz;
+        const int32_t *tris;
+        int nt;
+        if (rb)
+            sim_scene_eval(rb, 0.0, &xyz, &ref_body_nv, &tris, &nt, NULL);
+        sim_scene_destroy(rb);
+    }
     float *ref = o.no_ref ? NULL : reference(&o, o.ref_iterations, r.nsnap, &nv_ref, 1);
     double cloth_error_mm = ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, -1) : -1.0;
     /* the reference's own uncertainty: its distance to the reference of half the iterations,
@@ -502,10 +650,17 @@ int main(int argc, char **argv)
     float *win_half = win ? window_reference(&o, o.ref_iterations / 2, &r) : NULL;
     double win_mm = win ? rms_mm(&o, r.snap, win, r.nv, r.nsnap, -1) : -1.0;
     double win_unc_mm = win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, -1) : -1.0;
+    /* the shape's error: the same references, each garment's vertices to the other's surface */
+    bench_mesh mesh = {0};
+    if (ref && (mesh_of_garment(&o, &mesh) < 0 || mesh.nv != r.nv))
+        mesh_free(&mesh);
+    double shape_mm = shape_rms_mm(&o, &mesh, r.snap, ref, r.nsnap, -1);
+    double win_shape_mm = shape_rms_mm(&o, &mesh, r.snap, win, r.nsnap, -1);
+    double win_shape_unc_mm = shape_rms_mm(&o, &mesh, win, win_half, r.nsnap, -1);
     if (is_all_body(&o)) {
         /* per motion: strain after the settling frames, error against the reference */
-        printf("%-10s %9s %8s %9s %9s %9s\n", "motion", "strain%", "p99%", "error_mm", "window_mm",
-               "win_unc");
+        printf("%-10s %9s %8s %9s %9s %9s %9s %9s %9s\n", "motion", "strain%", "p99%", "error_mm",
+               "window_mm", "win_unc", "shape_mm", "win_shape", "shape_unc");
         for (int m = 0; m < sim_scene_segment_count(); m++) {
             float mx = 0, p = 0;
             int seen = 0;
@@ -517,15 +672,20 @@ int main(int argc, char **argv)
                 }
             if (!seen)
                 continue; /* --frames stopped before this motion */
-            printf("%-10s %9.2f %8.2f %9.2f %9.2f %9.2f\n", sim_scene_segment_name(m), mx * 100.0f,
-                   p * 100.0f, ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0,
+            printf("%-10s %9.2f %8.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f\n",
+                   sim_scene_segment_name(m), mx * 100.0f, p * 100.0f,
+                   ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0,
                    win ? rms_mm(&o, r.snap, win, r.nv, r.nsnap, m) : -1.0,
-                   win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, m) : -1.0);
+                   win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, m) : -1.0,
+                   shape_rms_mm(&o, &mesh, r.snap, ref, r.nsnap, m),
+                   shape_rms_mm(&o, &mesh, r.snap, win, r.nsnap, m),
+                   shape_rms_mm(&o, &mesh, win, win_half, r.nsnap, m));
         }
     }
     free(ref);
     free(win);
     free(win_half);
+    mesh_free(&mesh);
     /* the moving frame in effect (sim.h: 0 = 1, < 0 = none; the seed and garments with fewer
        than 3 attachments, such as the drape, have none) */
     float follow = o.desc.follow == 0.0f ? 1.0f : fmaxf(o.desc.follow, 0.0f);
@@ -543,13 +703,16 @@ int main(int argc, char **argv)
            "\"ref_iterations\":%d,\"ref_uncertainty_mm\":%.2f,\"ms_median_no_metrics\":%.3f,"
            "\"follow\":%g,\"settle_frames\":%d,\"support\":%d,\"strain_retry\":%d,"
            "\"strain_retried_frames\":%d,\"cloth_error_window_mm\":%.2f,"
-           "\"window_uncertainty_mm\":%.2f}\n",
+           "\"window_uncertainty_mm\":%.2f,\"cloth_shape_error_mm\":%.2f,"
+           "\"shape_window_mm\":%.2f,\"shape_window_uncertainty_mm\":%.2f,\"body_verts\":%d,"
+           "\"ref_body_verts\":%d}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
-           follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm);
+           follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm, shape_mm,
+           win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv);
     run_free(&r);
     return 0;
 }

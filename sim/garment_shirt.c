@@ -128,61 +128,95 @@ static void radial_profile(const float *xyz, int nv, const uint8_t *torso, const
     free(raw);
 }
 
+/* Vertex p glued to body triangle t, exactly on its plane: the barycentrics of p's projection
+ * (possibly a little outside the triangle) plus the height along its unit normal, so that the
+ * attachment reproduces p. */
+static void glue(const float *p, const float *xyz, const int32_t *tris, int t, sim_attachment *at)
+{
+    const int32_t *v = &tris[t * 3];
+    const float *a = &xyz[v[0] * 3], *b = &xyz[v[1] * 3], *q = &xyz[v[2] * 3];
+    float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    float e2[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+    float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                  e1[0] * e2[1] - e1[1] * e2[0]};
+    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++)
+        n[k] /= len;
+    float h = ap[0] * n[0] + ap[1] * n[1] + ap[2] * n[2];
+    float w[3] = {ap[0] - h * n[0], ap[1] - h * n[1], ap[2] - h * n[2]};
+    float d00 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+    float d01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+    float d11 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    float d20 = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2];
+    float d21 = w[0] * e2[0] + w[1] * e2[1] + w[2] * e2[2];
+    float den = d00 * d11 - d01 * d01;
+    float b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
+    at->body_triangle = t;
+    at->bary[0] = 1.0f - b1 - b2;
+    at->bary[1] = b1;
+    at->bary[2] = b2;
+    at->offset_m = h;
+}
+
+/* The triangle nearest p among those whose vertices are all in mask (NULL: all); -1 if none. */
+static int nearest_triangle(const float *p, const float *xyz, const int32_t *tris, int nt,
+                            const uint8_t *mask)
+{
+    float best = INFINITY;
+    int bt = -1;
+    for (int t = 0; t < nt; t++) {
+        const int32_t *v = &tris[t * 3];
+        if (mask && (!mask[v[0]] || !mask[v[1]] || !mask[v[2]]))
+            continue;
+        float q[3], bary[3];
+        sim_closest_on_triangle(p, &xyz[v[0] * 3], &xyz[v[1] * 3], &xyz[v[2] * 3], q, bary);
+        float d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                   (p[2] - q[2]) * (p[2] - q[2]);
+        if (d2 < best) {
+            best = d2;
+            bt = t;
+        }
+    }
+    return bt;
+}
+
 /* The top row hangs from the body: each vertex glued to its nearest torso triangle. */
 static int attach_top_row(sim_garment *g, int cols, const float *xyz, const int32_t *tris, int nt,
                           const uint8_t *torso, sim_reject *why)
 {
     for (int c = 0; c < cols; c++) {
-        const float *p = &g->xyz[c * 3];
-        float best = INFINITY, bq[3] = {0}, bb[3] = {0};
-        int bt = -1;
-        for (int t = 0; t < nt; t++) {
-            const int32_t *v = &tris[t * 3];
-            if (!torso[v[0]] || !torso[v[1]] || !torso[v[2]])
-                continue;
-            float q[3], bary[3];
-            sim_closest_on_triangle(p, &xyz[v[0] * 3], &xyz[v[1] * 3], &xyz[v[2] * 3], q, bary);
-            float d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                       (p[2] - q[2]) * (p[2] - q[2]);
-            if (d2 < best) {
-                best = d2;
-                bt = t;
-                memcpy(bq, q, sizeof bq);
-                memcpy(bb, bary, sizeof bb);
-            }
-        }
+        int bt = nearest_triangle(&g->xyz[c * 3], xyz, tris, nt, torso);
         if (bt < 0)
             return sim_reject_set(why, SIM_ERR_PARAM, "shirt: no torso triangle near column %d", c);
-        (void)bq;
-        (void)bb;
-        /* exact on the nearest triangle's plane: barycentrics of the projection (possibly a
-         * little outside the triangle) plus the height along its unit normal */
-        const int32_t *v = &tris[bt * 3];
-        const float *a = &xyz[v[0] * 3], *b = &xyz[v[1] * 3], *q = &xyz[v[2] * 3];
-        float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        float e2[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
-        float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-        float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                      e1[0] * e2[1] - e1[1] * e2[0]};
-        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        g->attachments[c].vertex = c;
+        glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[c]);
+    }
+    return 0;
+}
+
+int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const int32_t *from_tris,
+                       int from_nt, const float *to_xyz, int to_nv, const int32_t *to_tris,
+                       int to_nt, sim_reject *why)
+{
+    int r = sim_body_validate(from_xyz, from_nv, from_tris, from_nt, why);
+    if (r == 0)
+        r = sim_body_validate(to_xyz, to_nv, to_tris, to_nt, why);
+    if (r == 0)
+        r = sim_garment_validate(g, from_nt, why);
+    if (r < 0)
+        return r;
+    for (int a = 0; a < g->num_attachments; a++) {
+        sim_attachment *at = &g->attachments[a];
+        const int32_t *v = &from_tris[at->body_triangle * 3];
+        float foot[3];
         for (int k = 0; k < 3; k++)
-            n[k] /= len;
-        float h = ap[0] * n[0] + ap[1] * n[1] + ap[2] * n[2];
-        float w[3] = {ap[0] - h * n[0], ap[1] - h * n[1], ap[2] - h * n[2]};
-        float d00 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-        float d01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
-        float d11 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-        float d20 = w[0] * e1[0] + w[1] * e1[1] + w[2] * e1[2];
-        float d21 = w[0] * e2[0] + w[1] * e2[1] + w[2] * e2[2];
-        float den = d00 * d11 - d01 * d01;
-        float b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
-        sim_attachment *at = &g->attachments[c];
-        at->vertex = c;
-        at->body_triangle = bt;
-        at->bary[0] = 1.0f - b1 - b2;
-        at->bary[1] = b1;
-        at->bary[2] = b2;
-        at->offset_m = h;
+            foot[k] = at->bary[0] * from_xyz[v[0] * 3 + k] + at->bary[1] * from_xyz[v[1] * 3 + k] +
+                      at->bary[2] * from_xyz[v[2] * 3 + k];
+        int t = nearest_triangle(foot, to_xyz, to_tris, to_nt, NULL);
+        if (t < 0)
+            return sim_reject_set(why, SIM_ERR_PARAM, "rebind: no triangle near attachment %d", a);
+        glue(&g->xyz[at->vertex * 3], to_xyz, to_tris, t, at);
     }
     return 0;
 }

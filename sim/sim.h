@@ -150,6 +150,13 @@ int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, i
                       const float *joints_xyz, int n_vertices, float offset_m, sim_garment *out,
                       sim_reject *why);
 void sim_garment_free(sim_garment *g); /* frees the arrays; the struct itself is the caller's */
+/* The garment's attachments moved from one body mesh to another of the same person in the same
+ * pose (another resolution of the body model): each glued to the new body's triangle nearest its
+ * old foot point, so that it reproduces the vertex exactly as before. Refuses a body or garment
+ * that does not validate; changes nothing then. */
+int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const int32_t *from_tris,
+                       int from_nt, const float *to_xyz, int to_nv, const int32_t *to_tris,
+                       int to_nt, sim_reject *why);
 /* Checks sizes, finiteness, indices, degenerate triangles, masses and attachments. */
 int sim_garment_validate(const sim_garment *g, int body_nt, sim_reject *why);
 /* Body check used by sim_step: finite, indices in range, no repeated vertex in a triangle. */

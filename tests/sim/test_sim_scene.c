@@ -1,5 +1,6 @@
 /* The benchmark's body scene: "all" plays every motion, tells which one plays when, and never
- * jumps between them (a jump would measure the scene's cut, not the cloth). */
+ * jumps between them (a jump would measure the scene's cut, not the cloth); a garment made on one
+ * body detail moves to another (the bench's --ref-body-verts). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -11,6 +12,7 @@
 #include <cmocka.h>
 
 #include "scene.h"
+#include "sim.h"
 
 /* Largest distance any body vertex moves between frames f - 1 and f, metres. */
 static float frame_jump(sim_scene *sc, float *prev, int f)
@@ -97,11 +99,100 @@ static void test_all_never_jumps(void **state)
     sim_scene_destroy(sc);
 }
 
+/* Where attachment a puts its vertex on body (xyz, tris): sum of bary * corners + offset * unit
+ * normal, as the solver places it. */
+static void attached_at(const sim_attachment *a, const float *xyz, const int32_t *tris,
+                        float out[3])
+{
+    const int32_t *v = &tris[a->body_triangle * 3];
+    const float *p0 = &xyz[v[0] * 3], *p1 = &xyz[v[1] * 3], *p2 = &xyz[v[2] * 3];
+    float e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = p1[k] - p0[k];
+        e2[k] = p2[k] - p0[k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++)
+        out[k] =
+            a->bary[0] * p0[k] + a->bary[1] * p1[k] + a->bary[2] * p2[k] + a->offset_m * n[k] / len;
+}
+
+/* A shirt made on the 4,000-vertex body, rebound to the 6,000-vertex one in the same pose: every
+ * attachment still puts its vertex where it is (to 0.05 mm), on a triangle whose foot is within
+ * 5 mm of the old one (the two bodies' surfaces are that close: 3.1 mm here) and as far below the
+ * vertex as before (to 3 mm); a body with a NaN is refused and changes nothing. */
+static void test_rebind_to_other_detail(void **state)
+{
+    (void)state;
+    char err[160] = "";
+    sim_scene *a = sim_scene_body("still", 4000, err, sizeof err);
+    sim_scene *b = sim_scene_body("still", 6000, err, sizeof err);
+    assert_true(a && b);
+    const float *xa, *xb, *ja;
+    const int32_t *ta, *tb;
+    int nva, nta, nvb, ntb;
+    assert_int_equal(sim_scene_eval(a, 0.0, &xa, &nva, &ta, &nta, &ja), 0);
+    assert_int_equal(sim_scene_eval(b, 0.0, &xb, &nvb, &tb, &ntb, NULL), 0);
+    assert_true(nvb > nva);
+    sim_garment g = {0};
+    sim_reject why = {0};
+    assert_int_equal(sim_garment_shirt(xa, nva, ta, nta, ja, 2000, 0.0f, &g, &why), 0);
+    assert_true(g.num_attachments >= 3);
+    size_t bytes = (size_t)g.num_attachments * sizeof *g.attachments;
+    sim_attachment *old = malloc(bytes);
+    assert_non_null(old);
+    memcpy(old, g.attachments, bytes);
+
+    /* refused: a NaN in the new body; nothing changed */
+    float *bad = malloc((size_t)nvb * 3 * sizeof *bad);
+    assert_non_null(bad);
+    memcpy(bad, xb, (size_t)nvb * 3 * sizeof *bad);
+    bad[7] = NAN;
+    assert_int_equal(sim_garment_rebind(&g, xa, nva, ta, nta, bad, nvb, tb, ntb, &why),
+                     -SIM_ERR_NOT_FINITE);
+    assert_memory_equal(g.attachments, old, bytes);
+
+    assert_int_equal(sim_garment_rebind(&g, xa, nva, ta, nta, xb, nvb, tb, ntb, &why), 0);
+    assert_int_equal(sim_garment_validate(&g, ntb, &why), 0);
+    float worst_place = 0.0f, worst_foot = 0.0f;
+    for (int i = 0; i < g.num_attachments; i++) {
+        const sim_attachment *n = &g.attachments[i];
+        assert_int_equal(n->vertex, old[i].vertex);
+        float p[3], fa[3], fb[3];
+        attached_at(n, xb, tb, p);
+        sim_attachment foot_a = old[i], foot_b = *n;
+        foot_a.offset_m = foot_b.offset_m = 0.0f;
+        attached_at(&foot_a, xa, ta, fa);
+        attached_at(&foot_b, xb, tb, fb);
+        float dp = 0.0f, df = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            dp += (p[k] - g.xyz[n->vertex * 3 + k]) * (p[k] - g.xyz[n->vertex * 3 + k]);
+            df += (fa[k] - fb[k]) * (fa[k] - fb[k]);
+        }
+        worst_place = fmaxf(worst_place, sqrtf(dp));
+        worst_foot = fmaxf(worst_foot, sqrtf(df));
+        assert_true(fabsf(n->offset_m - old[i].offset_m) < 0.003f);
+    }
+    print_message("# rebound %d attachments: placed within %.3f mm, feet moved up to %.2f mm\n",
+                  g.num_attachments, worst_place * 1000.0f, worst_foot * 1000.0f);
+    assert_true(worst_place < 5e-5f);
+    assert_true(worst_foot < 0.005f);
+    free(bad);
+    free(old);
+    sim_garment_free(&g);
+    sim_scene_destroy(a);
+    sim_scene_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_all_segments_in_order),
         cmocka_unit_test(test_all_never_jumps),
+        cmocka_unit_test(test_rebind_to_other_detail),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
