@@ -49,6 +49,7 @@ static void usage(void)
         "         [--ref-body-verts N (the references' body model, 0 = the run's)]\n"
         "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
+        "         [--friction MU (< 0: none)] [--damping D (per second, < 0: none)]\n"
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
         "         [--strain-limit S (the clamp, default 0.0075)]\n"
         "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
@@ -111,6 +112,10 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.retry_max_strain = o->desc.retry_p99_strain = atoi(v) < 0 ? -1.0f : 0.0f;
         else if (strcmp(a, "--strain-limit") == 0)
             o->desc.strain_limit = (float)atof(v);
+        else if (strcmp(a, "--friction") == 0)
+            o->desc.friction = (float)atof(v);
+        else if (strcmp(a, "--damping") == 0)
+            o->desc.damping = (float)atof(v);
         else if (strcmp(a, "--bend") == 0)
             o->desc.fabric.bend_n_m = (float)atof(v);
         else if (strcmp(a, "--backend") == 0 && (!strcmp(v, "c") || !strcmp(v, "opencl")))
@@ -333,9 +338,14 @@ static float *window_reference(const bench_opts *o, int iters, const bench_run *
  * the cache only (NULL when it is not there). */
 static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int compute)
 {
-    char path[512], limit[48] = ""; /* another strain limit is another model */
+    char path[512], limit[96] = ""; /* another strain limit is another model */
     if (o->desc.strain_limit != 0.0f && o->desc.strain_limit != sim_default_desc().strain_limit)
         snprintf(limit, sizeof limit, "-limit%g", o->desc.strain_limit);
+    sim_desc dd = sim_default_desc(); /* another friction or damping: another model */
+    if (o->desc.friction != 0.0f && o->desc.friction != dd.friction)
+        snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-mu%g", o->desc.friction);
+    if (o->desc.damping != 0.0f && o->desc.damping != dd.damping)
+        snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-damp%g", o->desc.damping);
     if (ref_body(o) != o->body_verts) /* the same garment on a body of other detail */
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-body%d", ref_body(o));
     snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x%s.bin", o->cache_dir,

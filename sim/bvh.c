@@ -184,10 +184,23 @@ static int leaf_of(const sim_bvh *b, int node)
     return node >= b->n - 1 ? node - (b->n - 1) : -1;
 }
 
-/* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i holds i's
-   children, each internal one replaced by its own two children. Every binary node is a slot or
-   expanded, so every leaf is reached once. Nodes are numbered in creation order; a node's
-   children come after it. A node with leaf slots gets a block of their triangles (wleaf). */
+/* Half the surface area of binary node i's static box (the build's frame). */
+static float box_area(const sim_bvh *b, int i)
+{
+    float e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = b->hi[i][k] - b->lo[i][k];
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+}
+
+/* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i starts with
+   i's two children and opens the internal slot of the largest box (the one a query is likeliest
+   to enter; in the build's frame) into its two children, in place, until it has four slots or
+   none is internal. The Morton tree is uneven (a leaf beside a subtree of hundreds), so opening
+   by area rather than level by level keeps nodes full and the descent short. Every binary node
+   is a slot or opened, so every leaf is reached once. Nodes are numbered in creation order; a
+   node's children come after it. A node with leaf slots gets a block of their triangles (wleaf).
+   The boxes must be those of the topology's frame (after the build's first refit). */
 static void build_wide(sim_bvh *b)
 {
     b->nwide = 0;
@@ -199,15 +212,23 @@ static void build_wide(sim_bvh *b)
     for (int w = 0; w < b->nwide; w++) {
         sim_bvh_node4 *q = &b->wide[w];
         int32_t *slot = b->wide_node[w];
-        int bin = slot[0], count = 0;
-        for (int j = 0; j < 2; j++) {
-            int ch = b->child[bin][j];
-            if (leaf_of(b, ch) >= 0) {
-                slot[count++] = ch;
-            } else {
-                slot[count++] = b->child[ch][0];
-                slot[count++] = b->child[ch][1];
-            }
+        int bin = slot[0], count = 2;
+        slot[0] = b->child[bin][0];
+        slot[1] = b->child[bin][1];
+        while (count < 4) {
+            int pick = -1;
+            for (int k = 0; k < count; k++)
+                if (leaf_of(b, slot[k]) < 0 &&
+                    (pick < 0 || box_area(b, slot[k]) > box_area(b, slot[pick])))
+                    pick = k;
+            if (pick < 0)
+                break;
+            int ch = slot[pick];
+            for (int k = count; k > pick + 1; k--)
+                slot[k] = slot[k - 1];
+            slot[pick] = b->child[ch][0];
+            slot[pick + 1] = b->child[ch][1];
+            count++;
         }
         memset(q, 0, sizeof *q);
         atomic_init(&q->stamp, -1);
@@ -330,10 +351,10 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
         for (int i = 0; i < nt - 1; i++)
             build_node(b, i);
     }
-    build_wide(b);
     if (nt > 1)
         build_refit_order(b);
     sim_bvh_refit(b, v_prev, v, tris, pad_m);
+    build_wide(b); /* by the boxes of this frame */
 }
 
 /* fminf / fmaxf without the library call (they are not inlined: their NaN rules differ from
