@@ -16,7 +16,8 @@
 #define BENCH_REF_ITERATIONS 200 /* the reference (docs/sim.md: the convergence study) */
 /* The body scene's body detail: the body model at 6,000 vertices is 0.74 mm RMS from the same
  * body at 30,000 where the camera knows the body to about a centimetre, and the shirt on it is as
- * near the reference on the 10,000-vertex body as on its own (docs/sim.md, "Body detail"). */
+ * near the reference on the 10,000-vertex body as on its own (docs/sim.md, "Body detail and
+ * the shape error"). */
 #define BENCH_BODY_VERTS 6000
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
@@ -485,7 +486,8 @@ static double surface_d2(const bench_mesh *m, sim_bvh *bvh, float (*pa)[4], floa
 }
 
 /* As rms_mm, the distance of each garment's vertices to the other's surface (both ways): the
- * shape's difference without the cloth's sliding along itself (docs/sim.md, "Shape error"). */
+ * shape's difference without the cloth's sliding along itself (docs/sim.md, "Body detail and the
+ * shape error"). */
 static double shape_rms_mm(const bench_opts *o, const bench_mesh *m, const float *a, const float *b,
                            int nsnap, int seg)
 {
