@@ -18,7 +18,7 @@
 #include "collide.h"
 
 #define ITERATIONS    25
-#define CONTACT_EVERY 5      /* tryon: iterations between contact refreshes (sim/cloth.h) */
+#define CONTACT_EVERY 10     /* tryon: iterations between contact refreshes (sim/cloth.h) */
 #define SHELL_M       0.008f /* cloth points start 8 mm off the skin */
 
 static double now_ms(void)

@@ -21,7 +21,7 @@
 #define BENCH_BODY_VERTS 6000
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
-#define BENCH_REF_VERSION 8
+#define BENCH_REF_VERSION 9
 
 typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;

@@ -128,7 +128,10 @@ struct sim {
 #define SIM_RETRY_STRAIN   0.03f
 #define SIM_RETRY_P99      0.01f
 #define SIM_CONTACT_MARGIN 0.03f /* tryon: contacts cached with this reach beyond thickness */
-#define SIM_CONTACT_EVERY  5     /* tryon: iterations between contact searches */
+/* tryon: iterations between contact searches within a frame that needs them (below): a point
+   approaching the body at up to reach / (this * step), 2.25 m/s at 25 steps, is seen. 5 until
+   2026-11-24: the walk took 15.6 ms a frame for the same cloth (docs/sim.md, "Contact refresh"). */
+#define SIM_CONTACT_EVERY 10
 /* tryon: contacts are refreshed within a frame only when the fastest cloth point would travel
    farther than this in the frame (the reach: nothing beyond it at the frame's search can be met
    otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */

@@ -287,7 +287,7 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
     /* contacts are cached at the start of the frame; when the cloth itself moves fast (a
      * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are
      * refreshed every few steps: reach / (steps * dt) is the fastest a point may approach the
-     * body unseen (0.03 m / 5 steps of 1.3 ms: 4.5 m/s). The body's own motion is carried by
+     * body unseen (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is carried by
      * the feature points and the moving frame. The seed searches every step. */
     int refresh = frame_travel(c, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
     int threads = 1;

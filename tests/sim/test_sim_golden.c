@@ -16,7 +16,7 @@
 #include "sim_test_util.h"
 
 /* Update only for an intended change of the solver, with the reason in the commit. */
-#define GOLDEN_C_TRYON 0xeea45d56u
+#define GOLDEN_C_TRYON 0x4d74f607u
 #define GOLDEN_C_SEED  0xcef7b6a0u
 
 static uint32_t fnv1a(const void *p, size_t n, uint32_t h)
