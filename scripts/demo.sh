@@ -4,7 +4,9 @@
 # faked.
 #   scripts/demo.sh [BUILD_DIR]
 # Environment: TRYON_DEMO_MOTION (walk), TRYON_DEMO_FRAMES (90), TRYON_DEMO_BACKEND (c: faster
-# than PoCL's CPU OpenCL on a machine without a GPU; opencl where one is), TRYON_LCM_URL.
+# than PoCL's CPU OpenCL on a machine without a GPU; opencl where one is), TRYON_DEMO_BODY_VERTS
+# (6000: the body detail the camera supports, docs/sim.md "Body detail and the shape error"),
+# TRYON_LCM_URL.
 set -euo pipefail
 build=${1:-build}
 cd "$(dirname "$0")/.."
@@ -12,6 +14,7 @@ bin() { find "$build" -maxdepth 3 -type f -name "$1" -perm -u+x | head -n 1; }
 motion=${TRYON_DEMO_MOTION:-walk}
 frames=${TRYON_DEMO_FRAMES:-90}
 backend=${TRYON_DEMO_BACKEND:-c}
+body_verts=${TRYON_DEMO_BODY_VERTS:-6000}
 
 echo "== bus: a full-size depth frame over LCM"
 "$(bin tryon-bus-check)"
@@ -31,10 +34,12 @@ for exe in tryon-synth tryon-capture tryon-truth tryon-sim tryon-profile; do
     fi
 done
 
-rec="$build/recordings/demo_${motion}_${frames}"
+rec="$build/recordings/demo_${motion}_${frames}_${body_verts}"
 if [ ! -f "$rec/INDEX.txt" ]; then
-    echo "== recording: $frames frames of '$motion' through the simulated Kinect v1 -> $rec"
-    "$(bin tryon-synth)" --out "$rec" --motion "$motion" --frames "$frames" >/dev/null
+    echo "== recording: $frames frames of '$motion' (a body of $body_verts vertices) through the" \
+        "simulated Kinect v1 -> $rec"
+    "$(bin tryon-synth)" --out "$rec" --motion "$motion" --frames "$frames" \
+        --vertices "$body_verts" >/dev/null
 fi
 
 # Every stage on its own channel prefix, so a demo never talks to another pipeline on this host.
