@@ -40,6 +40,24 @@ typedef struct bench_run {
     char device[96];
 } bench_run;
 
+/* The machine's CPU ticks so far, all and stolen (by the hypervisor: a virtual machine's cores
+ * given to another guest), from /proc/stat's first line; -1 where it cannot be read. */
+static int cpu_ticks(unsigned long long *total, unsigned long long *steal)
+{
+    unsigned long long v[8] = {0};
+    FILE *f = fopen("/proc/stat", "r");
+    int n = f ? fscanf(f, "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &v[0], &v[1], &v[2], &v[3],
+                       &v[4], &v[5], &v[6], &v[7])
+              : 0;
+    if (f)
+        fclose(f);
+    if (n < 8)
+        return -1;
+    *total = v[0] + v[1] + v[2] + v[3] + v[4] + v[5] + v[6] + v[7];
+    *steal = v[7];
+    return 0;
+}
+
 static void usage(void)
 {
     fprintf(
@@ -608,8 +626,15 @@ int main(int argc, char **argv)
     if (o.compare_ref > 0)
         return compare_refs(&o);
     bench_run r;
+    /* the share of the machine's time its hypervisor took while the run was timed: a virtual
+       machine's slow phases show here (docs/sim.md, "Measured") */
+    unsigned long long tot0 = 0, st0 = 0, tot1 = 0, st1 = 0;
+    int ticks = cpu_ticks(&tot0, &st0);
     if (run(&o, &o.desc, o.body_verts, NULL, &r) < 0)
         return 1;
+    ticks |= cpu_ticks(&tot1, &st1);
+    double steal_pct =
+        ticks == 0 && tot1 > tot0 ? 100.0 * (double)(st1 - st0) / (double)(tot1 - tot0) : -1.0;
     print_groups(&o, &r);
     if (o.csv)
         write_csv(o.csv, &r, o.frames);
@@ -717,14 +742,14 @@ int main(int argc, char **argv)
            "\"strain_retried_frames\":%d,\"cloth_error_window_mm\":%.2f,"
            "\"window_uncertainty_mm\":%.2f,\"cloth_shape_error_mm\":%.2f,"
            "\"shape_window_mm\":%.2f,\"shape_window_uncertainty_mm\":%.2f,\"body_verts\":%d,"
-           "\"ref_body_verts\":%d}\n",
+           "\"ref_body_verts\":%d,\"cpu_steal_pct\":%.1f}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
            follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm, shape_mm,
-           win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv);
+           win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv, steal_pct);
     run_free(&r);
     return 0;
 }
