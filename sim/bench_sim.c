@@ -481,54 +481,64 @@ static int mesh_of_garment(const bench_opts *o, bench_mesh *m)
     return r;
 }
 
-/* Sum of squared distances (m^2) of the points of snapshot a to the surface of snapshot b. */
-static double surface_d2(const bench_mesh *m, sim_bvh *bvh, float (*pa)[4], float (*pb)[4],
-                         const float *a, const float *b)
+/* Sum of squared distances (m^2) of the points pa to the surface of the garment at pb. */
+static double surface_d2(const bench_mesh *m, sim_bvh *bvh, const float (*pa)[4],
+                         const float (*pb)[4])
 {
-    for (int i = 0; i < m->nv; i++)
-        for (int d = 0; d < 4; d++) {
-            pa[i][d] = d < 3 ? a[i * 3 + d] : 0.0f;
-            pb[i][d] = d < 3 ? b[i * 3 + d] : 0.0f;
-        }
-    sim_bvh_build(bvh, (const float(*)[4])pb, (const float(*)[4])pb, (const int32_t(*)[4])m->tris,
-                  m->nt, 0.0f);
+    sim_bvh_build(bvh, pb, pb, (const int32_t(*)[4])m->tris, m->nt, 0.0f);
     double e2 = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : e2)
     for (int i = 0; i < m->nv; i++) {
         float q[3], bary[3], dist = 0.0f;
-        if (sim_bvh_nearest_from(bvh, (const float(*)[4])pb, (const int32_t(*)[4])m->tris, pa[i],
-                                 INFINITY, m->vertex_tri[i], q, bary, &dist) >= 0)
+        if (sim_bvh_nearest_from(bvh, pb, (const int32_t(*)[4])m->tris, pa[i], INFINITY,
+                                 m->vertex_tri[i], q, bary, &dist) >= 0)
             e2 += (double)dist * dist;
     }
     return e2;
 }
 
-/* As rms_mm, the distance of each garment's vertices to the other's surface (both ways): the
- * shape's difference without the cloth's sliding along itself (docs/sim.md, "Body detail and the
- * shape error"). */
-static double shape_rms_mm(const bench_opts *o, const bench_mesh *m, const float *a, const float *b,
-                           int nsnap, int seg)
+/* Per snapshot of the snapshot sets a and b: the sum of squared distances (m^2) of each garment's
+ * vertices to the other's surface, both ways (the shape's difference without the cloth's sliding
+ * along itself; docs/sim.md, "Body detail and the shape error"). NULL when either set or the mesh
+ * is missing. Computed once per pair; shape_rms_mm takes the RMS over any motion. */
+static double *shape_d2(const bench_mesh *m, const float *a, const float *b, int nsnap)
 {
     sim_bvh bvh;
+    if (!a || !b || m->nt <= 0 || nsnap <= 0 || sim_bvh_init(&bvh, m->nt) != 0)
+        return NULL;
     float(*pa)[4] = calloc((size_t)m->nv + 1, sizeof *pa);
     float(*pb)[4] = calloc((size_t)m->nv + 1, sizeof *pb);
+    double *d2 = pa && pb ? calloc((size_t)nsnap, sizeof *d2) : NULL;
+    for (int k = 0; d2 && k < nsnap; k++) {
+        size_t at = (size_t)k * m->nv * 3;
+        for (int i = 0; i < m->nv; i++)
+            for (int d = 0; d < 4; d++) {
+                pa[i][d] = d < 3 ? a[at + (size_t)i * 3 + d] : 0.0f;
+                pb[i][d] = d < 3 ? b[at + (size_t)i * 3 + d] : 0.0f;
+            }
+        d2[k] = surface_d2(m, &bvh, (const float(*)[4])pa, (const float(*)[4])pb) +
+                surface_d2(m, &bvh, (const float(*)[4])pb, (const float(*)[4])pa);
+    }
+    sim_bvh_free(&bvh);
+    free(pa);
+    free(pb);
+    return d2;
+}
+
+/* As rms_mm, from shape_d2's sums: over the snapshots after the settling frames in motion
+ * segment seg (-1: all); -1 when none. */
+static double shape_rms_mm(const bench_opts *o, const double *d2, int nv, int nsnap, int seg)
+{
     double e2 = 0.0;
     long cnt = 0;
-    int ok = a && b && m->nt > 0 && pa && pb && sim_bvh_init(&bvh, m->nt) == 0;
-    for (int k = 0; ok && k < nsnap; k++) {
+    for (int k = 0; d2 && k < nsnap; k++) {
         int f = (k + 1) * BENCH_REF_EVERY - 1;
         if (f < BENCH_SETTLE_FRAMES || (seg >= 0 && frame_segment(o, f) != seg))
             continue;
-        size_t at = (size_t)k * m->nv * 3;
-        e2 += surface_d2(m, &bvh, pa, pb, a + at, b + at) +
-              surface_d2(m, &bvh, pb, pa, b + at, a + at);
-        cnt += 2L * m->nv;
+        e2 += d2[k];
+        cnt += 2L * nv;
     }
-    if (ok)
-        sim_bvh_free(&bvh);
-    free(pa);
-    free(pb);
-    return ok && cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
+    return cnt ? sqrt(e2 / (double)cnt) * 1000.0 : -1.0;
 }
 
 /* --compare-ref M: the distance between the references of --ref-iterations and of M. */
@@ -691,9 +701,12 @@ int main(int argc, char **argv)
     bench_mesh mesh = {0};
     if (ref && (mesh_of_garment(&o, &mesh) < 0 || mesh.nv != r.nv))
         mesh_free(&mesh);
-    double shape_mm = shape_rms_mm(&o, &mesh, r.snap, ref, r.nsnap, -1);
-    double win_shape_mm = shape_rms_mm(&o, &mesh, r.snap, win, r.nsnap, -1);
-    double win_shape_unc_mm = shape_rms_mm(&o, &mesh, win, win_half, r.nsnap, -1);
+    double *sh = shape_d2(&mesh, r.snap, ref, r.nsnap);
+    double *sh_win = shape_d2(&mesh, r.snap, win, r.nsnap);
+    double *sh_unc = shape_d2(&mesh, win, win_half, r.nsnap);
+    double shape_mm = shape_rms_mm(&o, sh, r.nv, r.nsnap, -1);
+    double win_shape_mm = shape_rms_mm(&o, sh_win, r.nv, r.nsnap, -1);
+    double win_shape_unc_mm = shape_rms_mm(&o, sh_unc, r.nv, r.nsnap, -1);
     if (is_all_body(&o)) {
         /* per motion: strain after the settling frames, error against the reference */
         printf("%-10s %9s %8s %9s %9s %9s %9s %9s %9s\n", "motion", "strain%", "p99%", "error_mm",
@@ -714,15 +727,18 @@ int main(int argc, char **argv)
                    ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, m) : -1.0,
                    win ? rms_mm(&o, r.snap, win, r.nv, r.nsnap, m) : -1.0,
                    win_half ? rms_mm(&o, win, win_half, r.nv, r.nsnap, m) : -1.0,
-                   shape_rms_mm(&o, &mesh, r.snap, ref, r.nsnap, m),
-                   shape_rms_mm(&o, &mesh, r.snap, win, r.nsnap, m),
-                   shape_rms_mm(&o, &mesh, win, win_half, r.nsnap, m));
+                   shape_rms_mm(&o, sh, r.nv, r.nsnap, m),
+                   shape_rms_mm(&o, sh_win, r.nv, r.nsnap, m),
+                   shape_rms_mm(&o, sh_unc, r.nv, r.nsnap, m));
         }
     }
     free(ref);
     free(win);
     free(win_half);
     mesh_free(&mesh);
+    free(sh);
+    free(sh_win);
+    free(sh_unc);
     /* the moving frame in effect (sim.h: 0 = 1, < 0 = none; the seed and garments with fewer
        than 3 attachments, such as the drape, have none) */
     float follow = o.desc.follow == 0.0f ? 1.0f : fmaxf(o.desc.follow, 0.0f);
