@@ -106,7 +106,6 @@ struct sim {
     int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
     long frame;        /* body frames stepped */
     int iters_good;    /* the steps of the frame that made the good state (its velocity's step) */
-    float energy_good; /* kinetic energy per kg of the last good frame, J/kg */
     float strain_good; /* max stretch strain of the last good frame */
     float excess_good; /* its strain over the retry goals (sim.c: strain_excess; > 1: missed) */
     /* The moving frame of this body frame (follow.c): x -> m x (3 x 4, row-major) applied to
