@@ -110,8 +110,8 @@ static int run_variant(int seed, fit_model *m, fit_motion motion, int frames, in
         double t0 = now_ms();
         sim_collider_set_body(c, xyz, nv, tris, nt);
         if (seed) /* seed 000: both BVHs built from scratch every frame */
-            sim_bvh_build(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
-                          (const int32_t(*)[4])c->tris, nt, c->d.thickness_m);
+            sim_bvh_build_lbvh(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
+                               (const int32_t(*)[4])c->tris, nt, c->d.thickness_m);
         double t1 = now_ms();
         r->moved += sim_collider_feature_points(c, x, xp, 0, npts);
         double t2 = now_ms(), search = 0.0, track = 0.0, resolve = 0.0;

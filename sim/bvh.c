@@ -1,7 +1,14 @@
-/* The body LBVH (Karras 2012, "Maximizing parallelism in the construction of BVHs, octrees and
- * k-d trees"): Morton codes of triangle centroids, a radix sort, every internal node found on its
- * own from the longest common prefix of the sorted codes, boxes bottom-up. Built once per body
- * topology; per frame only sim_bvh_refit runs. Twin: kernels/bvh.cl. */
+/* The body's tree. Its topology is built once per body topology (the body mesh keeps its triangles
+ * from frame to frame) and only refitted per frame, so the build is chosen for the tree's quality
+ * rather than its own speed: a binned SAH (surface area heuristic) build, top down, on the
+ * topology's first frame. The Karras LBVH (Karras 2012, "Maximizing parallelism in the construction
+ * of BVHs, octrees and k-d trees": Morton codes of triangle centroids, a radix sort, every internal
+ * node found on its own from the longest common prefix of the sorted codes) is kept for what
+ * rebuilds every frame (the seed's method, tryon-bench-collide) and as the twin of the device's
+ * build kernels (kernels/bvh.cl). Refit: boxes bottom-up, the twin of the device's. Both builds
+ * give the same shape of tree (internal nodes 0..n-2 from the root, leaf i of the triangles in
+ * `order` is node n-1+i), so the refit, the 4-wide copy and every query serve either; their
+ * answers do not depend on the tree. docs/collision.md, "One tree, two box sets". */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -9,9 +16,13 @@
 
 #include "collide.h"
 
-/* Depth bound of an LBVH over 30-bit codes extended by a 32-bit index: each level lengthens the
-   common prefix by at least one bit. */
+/* Depth bound of either tree. An LBVH over 30-bit codes extended by a 32-bit index: each level
+   lengthens the common prefix by at least one bit. The SAH build: SAH splits down to SAH_DEPTH,
+   then halves, so at most SAH_DEPTH + 31 levels. */
 #define BVH_STACK 96
+/* The SAH build: candidate planes a node and axis, and the depth after which it halves. */
+#define SAH_BINS  16
+#define SAH_DEPTH 48
 /* The refit's subtrees: enough that two or three threads share them evenly (schedule dynamic). */
 #define REFIT_TASKS 32
 
@@ -196,7 +207,7 @@ static float box_area(const sim_bvh *b, int i)
 /* The 4-wide shape (Wald et al. 2008 collapse): a 4-wide node over binary node i starts with
    i's two children and opens the internal slot of the largest box (the one a query is likeliest
    to enter; in the build's frame) into its two children, in place, until it has four slots or
-   none is internal. The Morton tree is uneven (a leaf beside a subtree of hundreds), so opening
+   none is internal. The tree is uneven (a leaf beside a subtree of hundreds), so opening
    by area rather than level by level keeps nodes full and the descent short. Every binary node
    is a slot or opened, so every leaf is reached once. Nodes are numbered in creation order; a
    node's children come after it. A node with leaf slots gets a block of their triangles (wleaf).
@@ -319,10 +330,23 @@ static void build_refit_order(sim_bvh *b)
     b->nrefit_task = nfront;
 }
 
-void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
-                   const int32_t (*tris)[4], int nt, float pad_m)
+/* fminf / fmaxf without the library call (they are not inlined: their NaN rules differ from
+   minss). The body is validated finite, and where fminf would tell -0 from +0 a box distance
+   cannot (p - -0 == p - +0), so the refit gives the same answers. */
+static float min2(float a, float b)
 {
-    b->n = nt;
+    return a < b ? a : b;
+}
+
+static float max2(float a, float b)
+{
+    return a > b ? a : b;
+}
+
+/* Topology by LBVH (the kernels' twin): Morton codes of the centroids in their box, radix sort,
+   every internal node from the longest common prefix. */
+static void topology_lbvh(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4], int nt)
+{
     float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
     for (int t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
@@ -343,13 +367,186 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
         b->order[t] = t;
     }
     radix_sort(b, nt);
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < nt - 1; i++)
+        build_node(b, i);
+}
+
+/* The SAH build's node: triangles order[begin, end) under internal node `node`. */
+typedef struct sah_task {
+    int begin, end, node, depth;
+} sah_task;
+
+static float half_area(const float lo[3], const float hi[3])
+{
+    float e0 = hi[0] - lo[0], e1 = hi[1] - lo[1], e2 = hi[2] - lo[2];
+    return e0 * e1 + e1 * e2 + e2 * e0;
+}
+
+/* The bin of centroid coordinate c in [lo, lo + ext). */
+static int sah_bin(float c, float lo, float ext)
+{
+    int q = (int)((c - lo) / ext * (float)SAH_BINS);
+    return q < 0 ? 0 : (q >= SAH_BINS ? SAH_BINS - 1 : q);
+}
+
+/* The cheapest plane between two bins along axis k: the expected cost of a query reaching the node,
+   area(left) * triangles(left) + area(right) * triangles(right). Returns the last bin of the left
+   side (its cost in *cost), or -1 when every centroid falls in one bin. tlo, thi, cen: per
+   triangle. */
+static int sah_plane(const sim_bvh *b, const sah_task *t, int k, float cmin, float ext,
+                     const float (*tlo)[4], const float (*thi)[4], const float (*cen)[4],
+                     float *cost)
+{
+    int cnt[SAH_BINS] = {0}, right_cnt[SAH_BINS];
+    float blo[SAH_BINS][3], bhi[SAH_BINS][3], right_area[SAH_BINS];
+    for (int q = 0; q < SAH_BINS; q++)
+        for (int a = 0; a < 3; a++)
+            blo[q][a] = FLT_MAX, bhi[q][a] = -FLT_MAX;
+    for (int i = t->begin; i < t->end; i++) {
+        int tri = b->order[i], q = sah_bin(cen[tri][k], cmin, ext);
+        cnt[q]++;
+        for (int a = 0; a < 3; a++) {
+            blo[q][a] = min2(blo[q][a], tlo[tri][a]);
+            bhi[q][a] = max2(bhi[q][a], thi[tri][a]);
+        }
+    }
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (int q = SAH_BINS - 1, n = 0; q > 0; q--) {
+        n += cnt[q];
+        for (int a = 0; a < 3; a++)
+            lo[a] = min2(lo[a], blo[q][a]), hi[a] = max2(hi[a], bhi[q][a]);
+        right_cnt[q] = n;
+        right_area[q] = n > 0 ? half_area(lo, hi) : 0.0f;
+    }
+    for (int a = 0; a < 3; a++)
+        lo[a] = FLT_MAX, hi[a] = -FLT_MAX;
+    int best = -1;
+    for (int q = 0, n = 0; q < SAH_BINS - 1; q++) {
+        n += cnt[q];
+        for (int a = 0; a < 3; a++)
+            lo[a] = min2(lo[a], blo[q][a]), hi[a] = max2(hi[a], bhi[q][a]);
+        if (n == 0 || right_cnt[q + 1] == 0)
+            continue;
+        float c = half_area(lo, hi) * (float)n + right_area[q + 1] * (float)right_cnt[q + 1];
+        if (best < 0 || c < *cost) {
+            best = q;
+            *cost = c;
+        }
+    }
+    return best;
+}
+
+/* order[begin, end) rearranged so that the k-th smallest centroid along axis a is at k, those
+   before it no larger and those after no smaller (Hoare's selection). */
+static void select_kth(int32_t *order, int begin, int end, int k, const float (*cen)[4], int a)
+{
+    while (end - begin > 1) {
+        float pivot = cen[order[begin + (end - begin) / 2]][a];
+        int i = begin, j = end - 1;
+        while (i <= j) {
+            while (cen[order[i]][a] < pivot)
+                i++;
+            while (cen[order[j]][a] > pivot)
+                j--;
+            if (i <= j) {
+                int32_t x = order[i];
+                order[i++] = order[j];
+                order[j--] = x;
+            }
+        }
+        if (k <= j)
+            end = j + 1;
+        else if (k >= i)
+            begin = i;
+        else
+            return;
+    }
+}
+
+/* Topology by binned SAH, depth first from the root: each node split at the cheapest plane of
+   any axis (sah_plane), or halved at the median centroid of its longest axis when no plane
+   separates its centroids or it is SAH_DEPTH deep. A side of one triangle is a leaf. The triangles'
+   boxes and centroids are kept, by triangle, in the leaf entries of lo, hi and slo, which the
+   refit then overwrites. Depth first, the stack holds at most one node a level. */
+static void topology_sah(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4], int nt)
+{
+    float(*tlo)[4] = b->lo + (nt - 1), (*thi)[4] = b->hi + (nt - 1), (*cen)[4] = b->slo + (nt - 1);
+    for (int t = 0; t < nt; t++) {
+        b->order[t] = t;
+        b->morton[t] = 0; /* an LBVH's codes; none here */
+        for (int k = 0; k < 3; k++) {
+            float a = v[tris[t][0]][k], c = v[tris[t][1]][k], e = v[tris[t][2]][k];
+            cen[t][k] = (a + c + e) / 3.0f;
+            tlo[t][k] = min2(a, min2(c, e));
+            thi[t][k] = max2(a, max2(c, e));
+        }
+    }
+    sah_task stack[BVH_STACK + 2];
+    int top = 0, next = 1;
+    stack[top++] = (sah_task){0, nt, 0, 0};
+    while (top > 0) {
+        sah_task t = stack[--top];
+        float cmin[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, cmax[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+        for (int i = t.begin; i < t.end; i++)
+            for (int k = 0; k < 3; k++) {
+                cmin[k] = min2(cmin[k], cen[b->order[i]][k]);
+                cmax[k] = max2(cmax[k], cen[b->order[i]][k]);
+            }
+        int axis = -1, bin = -1, wide = 0;
+        float best = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            if (cmax[k] - cmin[k] > cmax[wide] - cmin[wide])
+                wide = k;
+            float cost;
+            int q = t.depth < SAH_DEPTH && cmax[k] - cmin[k] > 0.0f
+                        ? sah_plane(b, &t, k, cmin[k], cmax[k] - cmin[k], (const float(*)[4])tlo,
+                                    (const float(*)[4])thi, (const float(*)[4])cen, &cost)
+                        : -1;
+            if (q >= 0 && (axis < 0 || cost < best))
+                axis = k, bin = q, best = cost;
+        }
+        int mid = t.begin + (t.end - t.begin) / 2;
+        if (axis >= 0) {
+            float lo = cmin[axis], ext = cmax[axis] - cmin[axis];
+            int i = t.begin, j = t.end - 1;
+            while (i <= j) {
+                if (sah_bin(cen[b->order[i]][axis], lo, ext) <= bin) {
+                    i++;
+                } else {
+                    int32_t x = b->order[i];
+                    b->order[i] = b->order[j];
+                    b->order[j--] = x;
+                }
+            }
+            mid = i; /* both sides hold a triangle: the plane had some on each */
+        } else {
+            select_kth(b->order, t.begin, t.end, mid, (const float(*)[4])cen, wide);
+        }
+        int begin[2] = {t.begin, mid}, end[2] = {mid, t.end};
+        for (int s = 0; s < 2; s++) {
+            int child = end[s] - begin[s] == 1 ? nt - 1 + begin[s] : next++;
+            if (end[s] - begin[s] > 1)
+                stack[top++] = (sah_task){begin[s], end[s], child, t.depth + 1};
+            b->child[t.node][s] = child;
+            b->parent[child] = t.node;
+        }
+    }
+}
+
+static void build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                  const int32_t (*tris)[4], int nt, float pad_m, int sah)
+{
+    b->n = nt;
     b->parent[0] = -1;
     if (nt == 1) {
+        b->order[0] = 0;
+        b->morton[0] = 0;
         b->child[0][0] = b->child[0][1] = 0;
+    } else if (nt > 1 && sah) {
+        topology_sah(b, v, tris, nt);
     } else {
-#pragma omp parallel for schedule(static)
-        for (int i = 0; i < nt - 1; i++)
-            build_node(b, i);
+        topology_lbvh(b, v, tris, nt);
     }
     if (nt > 1)
         build_refit_order(b);
@@ -357,17 +554,16 @@ void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
     build_wide(b); /* by the boxes of this frame */
 }
 
-/* fminf / fmaxf without the library call (they are not inlined: their NaN rules differ from
-   minss). The body is validated finite, and where fminf would tell -0 from +0 a box distance
-   cannot (p - -0 == p - +0), so the refit gives the same answers. */
-static float min2(float a, float b)
+void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                   const int32_t (*tris)[4], int nt, float pad_m)
 {
-    return a < b ? a : b;
+    build(b, v_prev, v, tris, nt, pad_m, 1);
 }
 
-static float max2(float a, float b)
+void sim_bvh_build_lbvh(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                        const int32_t (*tris)[4], int nt, float pad_m)
 {
-    return a > b ? a : b;
+    build(b, v_prev, v, tris, nt, pad_m, 0);
 }
 
 static void leaf_box(sim_bvh *b, int leaf, const float (*v_prev)[4], const float (*v)[4],

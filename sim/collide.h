@@ -174,7 +174,7 @@ void sim_closest_on_triangle4(const float p[3], const float tri[3][3][4], float 
    the leaf (node 0). */
 struct sim_bvh {
     int n, cap;                 /* leaves (triangles) now, capacity */
-    uint32_t *morton;           /* per sorted leaf */
+    uint32_t *morton;           /* per sorted leaf (an LBVH's; zeros for the SAH tree) */
     int32_t *order;             /* sorted leaf -> triangle */
     int32_t (*child)[2];        /* per internal node */
     int32_t *parent;            /* per node, -1 at the root */
@@ -217,10 +217,15 @@ typedef struct sim_bvh_leaf4 {
 
 int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
 void sim_bvh_free(sim_bvh *b);
-/* Topology: Morton codes of the centroids of frame k inside the body's box, radix sort, hierarchy
-   from the longest common prefix. Then a refit. */
+/* Topology by binned SAH over the triangles of frame k (built once per body topology: sim/bvh.c).
+   Then a refit. */
 void sim_bvh_build(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
                    const int32_t (*tris)[4], int nt, float pad_m);
+/* Topology by LBVH, the device build's twin: Morton codes of the centroids of frame k inside their
+   box, radix sort, hierarchy from the longest common prefix. Then a refit. Quicker to build, slower
+   to search (what rebuilds every frame). */
+void sim_bvh_build_lbvh(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],
+                        const int32_t (*tris)[4], int nt, float pad_m);
 /* Leaf boxes from the triangles, then bottom-up through parent links, the second child to arrive
    at a node (atomic counter) computing its box. */
 void sim_bvh_refit(sim_bvh *b, const float (*v_prev)[4], const float (*v)[4],

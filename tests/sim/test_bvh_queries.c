@@ -1,5 +1,6 @@
-/* The LBVH against brute force on random triangle soups: nearest triangle, box containment,
- * refit after motion equal to a fresh build, and the tree's shape. */
+/* Both trees (the SAH build the collider uses, the LBVH the device kernels twin) against brute
+ * force on random triangle soups: nearest triangle, box containment, refit after motion equal to
+ * a fresh build, and the trees' shape. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -136,6 +137,9 @@ static void test_bvh_nearest_and_containment_match_brute_force(void **state)
     sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
                   (const int32_t(*)[4])m.tris, m.nt, 0.01f);
     check_queries(&b, &m, 777u, 0.01f);
+    sim_bvh_build_lbvh(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                       (const int32_t(*)[4])m.tris, m.nt, 0.01f);
+    check_queries(&b, &m, 777u, 0.01f);
     sim_bvh_free(&b);
     free_mesh(&m);
 }
@@ -171,35 +175,105 @@ static void test_bvh_refit_equals_rebuild(void **state)
     free_mesh(&m);
 }
 
-/* Every node but the root has one parent, every leaf is reached once, codes are sorted. */
-static void test_bvh_tree_is_a_binary_tree_over_sorted_codes(void **state)
+/* Every node but the root has one parent, every leaf is reached once; returns the depth (levels
+   of internal nodes on the longest path) and the tree's SAH cost: the half areas of the internal
+   nodes' boxes, each times the triangles under it. */
+static int check_tree(const sim_bvh *b, int nt, double *sah)
 {
-    (void)state;
-    mesh m = make_mesh(5u);
-    sim_bvh b;
-    assert_int_equal(sim_bvh_init(&b, NT), 0);
-    sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
-                  (const int32_t(*)[4])m.tris, m.nt, 0.0f);
-    for (int i = 1; i < m.nt; i++)
-        assert_true(b.morton[i - 1] <= b.morton[i]);
-    int *hits = calloc((size_t)(2 * m.nt - 1), sizeof *hits);
-    for (int i = 0; i < m.nt - 1; i++)
+    int *hits = calloc((size_t)(2 * nt - 1), sizeof *hits);
+    int *depth = calloc((size_t)(2 * nt - 1), sizeof *depth);
+    int *under = calloc((size_t)(2 * nt - 1), sizeof *under);
+    int deepest = 0;
+    for (int i = 0; i < nt - 1; i++)
         for (int c = 0; c < 2; c++) {
-            int ch = b.child[i][c];
-            assert_true(ch > 0 && ch < 2 * m.nt - 1);
-            assert_int_equal(b.parent[ch], i);
+            int ch = b->child[i][c];
+            assert_true(ch > 0 && ch < 2 * nt - 1);
+            assert_int_equal(b->parent[ch], i);
             hits[ch]++;
         }
     assert_int_equal(hits[0], 0);
-    for (int i = 1; i < 2 * m.nt - 1; i++)
+    for (int i = 1; i < 2 * nt - 1; i++)
         assert_int_equal(hits[i], 1);
-    int *seen = calloc((size_t)m.nt, sizeof *seen);
-    for (int i = 0; i < m.nt; i++)
-        seen[b.order[i]]++;
-    for (int i = 0; i < m.nt; i++)
+    int *seen = calloc((size_t)nt, sizeof *seen);
+    for (int i = 0; i < nt; i++)
+        seen[b->order[i]]++;
+    for (int i = 0; i < nt; i++)
         assert_int_equal(seen[i], 1);
+    /* depth and triangle counts through the parent links (a node's parent is internal) */
+    *sah = 0.0;
+    for (int leaf = nt - 1; leaf < 2 * nt - 1; leaf++) {
+        int d = 0;
+        for (int node = b->parent[leaf]; node >= 0; node = b->parent[node]) {
+            under[node]++;
+            d++;
+            assert_true(d <= 2 * nt);
+        }
+        deepest = d > deepest ? d : deepest;
+    }
+    for (int i = 0; i < nt - 1; i++) {
+        double e[3];
+        for (int k = 0; k < 3; k++)
+            e[k] = (double)b->hi[i][k] - (double)b->lo[i][k];
+        *sah += (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]) * under[i];
+    }
     free(hits);
+    free(depth);
+    free(under);
     free(seen);
+    return deepest;
+}
+
+/* The LBVH's codes are sorted; the SAH tree is no deeper than the searches' stacks (96) and
+   cheaper by its own measure than the LBVH over the same soup (what it is built for). */
+static void test_bvh_trees_are_binary_trees(void **state)
+{
+    (void)state;
+    mesh m = make_mesh(5u);
+    /* a tall soup, as a standing body is: the Morton codes split each axis of the box as often
+       as the others, so the LBVH's nodes come out as tall as the soup (measured: the SAH tree's
+       cost is 0.88 of the LBVH's here) */
+    for (int i = 0; i < m.nv; i++)
+        m.v[i][1] *= 5.0f;
+    memcpy(m.v_prev, m.v, (size_t)m.nv * sizeof *m.v);
+    sim_bvh b;
+    double sah_lbvh, sah_sah;
+    assert_int_equal(sim_bvh_init(&b, NT), 0);
+    sim_bvh_build_lbvh(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                       (const int32_t(*)[4])m.tris, m.nt, 0.0f);
+    for (int i = 1; i < m.nt; i++)
+        assert_true(b.morton[i - 1] <= b.morton[i]);
+    check_tree(&b, m.nt, &sah_lbvh);
+    sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.0f);
+    int depth = check_tree(&b, m.nt, &sah_sah);
+    assert_true(depth <= 96);
+    assert_true(sah_sah < 0.9 * sah_lbvh);
+    sim_bvh_free(&b);
+    free_mesh(&m);
+}
+
+/* Triangles all with one centroid (no plane separates them): the SAH build halves them, and the
+   nearest is still the lowest index among the equally near. */
+static void test_bvh_sah_coincident_triangles(void **state)
+{
+    (void)state;
+    mesh m = make_mesh(7u);
+    for (int f = 0; f < m.nt; f++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                m.v[m.tris[f][j]][k] = m.v[m.tris[0][j]][k];
+    memcpy(m.v_prev, m.v, (size_t)m.nv * sizeof *m.v);
+    sim_bvh b;
+    double sah;
+    assert_int_equal(sim_bvh_init(&b, NT), 0);
+    sim_bvh_build(&b, (const float(*)[4])m.v_prev, (const float(*)[4])m.v,
+                  (const int32_t(*)[4])m.tris, m.nt, 0.0f);
+    int depth = check_tree(&b, m.nt, &sah);
+    assert_true(depth <= 11); /* halved: ceil(log2(600)) = 10 levels, and the root */
+    float p[3] = {1.0f, 1.0f, 1.0f}, q[3], bary[3], d;
+    assert_int_equal(sim_bvh_nearest(&b, (const float(*)[4])m.v, (const int32_t(*)[4])m.tris, p,
+                                     10.0f, q, bary, &d),
+                     0);
     sim_bvh_free(&b);
     free_mesh(&m);
 }
@@ -240,7 +314,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bvh_nearest_and_containment_match_brute_force),
         cmocka_unit_test(test_bvh_refit_equals_rebuild),
-        cmocka_unit_test(test_bvh_tree_is_a_binary_tree_over_sorted_codes),
+        cmocka_unit_test(test_bvh_trees_are_binary_trees),
+        cmocka_unit_test(test_bvh_sah_coincident_triangles),
         cmocka_unit_test(test_bvh_morton_interleaves_axes),
         cmocka_unit_test(test_bvh_single_triangle),
     };
