@@ -24,6 +24,10 @@ typedef struct c_state {
        floats order as their bits), maxed over the threads */
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
+    /* the frame's start in the team (frame_start): feature points moved, and the fastest cloth
+       point's squared travel in a step as float bits (non-negative floats order as their bits) */
+    atomic_int fp_moved;
+    _Atomic uint32_t travel2;
     /* the support hierarchy (cloth.h), per vertex: its contact face's up when it rests on the
        body, its level, and the vertices in breadth-first order */
     float *rest_up;
@@ -105,12 +109,30 @@ static void thread_range(int n, int *b, int *e)
     *e = (int)((long)n * (t + 1) / nt);
 }
 
+/* The first of the attachments (att_order: by vertex) on a vertex >= vb. */
+static int first_attachment(const struct sim *s, const c_state *cs, int vb)
+{
+    const sim_attachment *att = s->cloth.attachments;
+    int lo = 0, hi = s->cloth.num_attachments;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (att[cs->att_order[mid]].vertex < vb)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 /* Attached vertices follow their body triangle: x = sum b_k v_k + offset n, from where they
- * were to where frame k puts them, spread over the steps of the frame as the body moved. */
-static void attachment_targets(struct sim *s, c_state *cs)
+ * were to where frame k puts them, spread over the steps of the frame as the body moved. Those
+ * on vertices [vb, ve). */
+static void attachment_targets(struct sim *s, c_state *cs, int vb, int ve)
 {
     const sim_body *b = &s->body;
-    for (int a = 0; a < s->cloth.num_attachments; a++) {
+    for (int k = first_attachment(s, cs, vb);
+         k < s->cloth.num_attachments && s->cloth.attachments[cs->att_order[k]].vertex < ve; k++) {
+        int a = cs->att_order[k];
         const sim_attachment *at = &s->cloth.attachments[a];
         const int32_t *t = b->tris[at->body_triangle];
         for (int d = 0; d < 3; d++) {
@@ -126,16 +148,9 @@ static void attachment_targets(struct sim *s, c_state *cs)
 static void place_attachments(struct sim *s, const c_state *cs, int it, int iters, int vb, int ve)
 {
     const sim_attachment *att = s->cloth.attachments;
-    int lo = 0, hi = s->cloth.num_attachments;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (att[cs->att_order[mid]].vertex < vb)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
     float u = (float)(it + 1) / (float)iters;
-    for (int k = lo; k < s->cloth.num_attachments && att[cs->att_order[k]].vertex < ve; k++) {
+    for (int k = first_attachment(s, cs, vb);
+         k < s->cloth.num_attachments && att[cs->att_order[k]].vertex < ve; k++) {
         int a = cs->att_order[k], v = att[a].vertex;
         for (int d = 0; d < 3; d++) {
             s->cloth.x_prev[v][d] = s->cloth.x[v][d];
@@ -144,16 +159,33 @@ static void place_attachments(struct sim *s, const c_state *cs, int it, int iter
     }
 }
 
-/* How far the fastest cloth point would travel this frame at its current velocity. */
-static float frame_travel(const sim_cloth *c, int iters)
+/* The largest squared distance a cloth point of [b, e) moves in a step at its current velocity. */
+static float step_travel2(const sim_cloth *c, int b, int e)
 {
     float m2 = 0.0f;
-    for (int i = 0; i < c->nv; i++) {
+    for (int i = b; i < e; i++) {
         float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
                       c->x[i][2] - c->x_prev[i][2]};
         m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    return sqrtf(m2) * (float)iters;
+    return m2;
+}
+
+/* m into the float bits at *max when larger (non-negative floats order as their bits). */
+static void atomic_max_bits(_Atomic uint32_t *max, float m)
+{
+    uint32_t bits, seen = atomic_load(max);
+    memcpy(&bits, &m, sizeof bits);
+    while (bits > seen && !atomic_compare_exchange_weak(max, &seen, bits))
+        ;
+}
+
+static float bits_float(_Atomic uint32_t *bits)
+{
+    uint32_t b = atomic_load(bits);
+    float f;
+    memcpy(&f, &b, sizeof f);
+    return f;
 }
 
 /* Chunk sizes worth a claim of their own (sim_phase_claim): a few microseconds of work. */
@@ -164,7 +196,7 @@ static float frame_travel(const sim_cloth *c, int iters)
 static int tryon_phases(const sim_cloth *c, int iters)
 {
     int step = 2 + c->num_colors + c->num_stretch_colors;
-    return iters * step + 3 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
+    return 2 + iters * step + 3 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
            SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH *
                (1 + SIM_SETTLE_BATCH * (c->num_stretch_colors + 2));
 }
@@ -275,8 +307,41 @@ static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_
     }
 }
 
+/* The frame's start, in the iterations' team (one team a frame: each team a thread joins after
+ * sleeping costs it a wake-up, 30-60 us with OMP_WAIT_POLICY=passive). Per vertex chunk: the
+ * moving frame, the feature points (each vertex's own sweep), the targets of the attachments on
+ * those vertices (from where the moving frame put them), and the fastest point's travel; then the
+ * contact search as a phase of its own. Thread 0 times the two. Returns the travel in a frame. */
+static float frame_start(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
+                         int iters, double *t_fp, double *t_contacts)
+{
+    sim_cloth *c = &s->cloth;
+    int b, e;
+    while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+        if (s->follow_on)
+            sim_follow(c->x, c->x_prev, b, e, s->follow_m);
+        if (s->body.have_prev)
+            atomic_fetch_add(&cs->fp_moved,
+                             sim_collider_feature_points(s->collider, c->x, c->x_prev, b, e));
+        attachment_targets(s, cs, b, e);
+        atomic_max_bits(&cs->travel2, step_travel2(c, b, e));
+    }
+    sim_phase_end(ph, cur, 1);
+    if (cur->thread == 0)
+        *t_fp = now_ms();
+    /* each thread's part whole: the search shares out its own (sim/find_contacts.c) */
+    while (sim_phase_claim(ph, cur, c->nv, c->nv, &b, &e))
+        sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+    sim_phase_end(ph, cur, 1);
+    if (cur->thread == 0)
+        *t_contacts = now_ms();
+    return sqrtf(bits_float(&cs->travel2)) * (float)iters;
+}
+
+/* The tryon solver's frame: frame_start, the steps, the post-stabilisation, the settle rounds;
+   the stages' ms into st. */
 static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
-                             const float g[3])
+                             const float g[3], sim_frame_stats *st)
 {
     sim_cloth *c = &s->cloth;
     float alpha[SIM_SPRING_KINDS];
@@ -284,12 +349,6 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
         alpha[k] = c->k[k] > 0.0f ? 1.0f / (c->k[k] * dt * dt) : 1e30f;
     float limit = s->desc.strain_limit;
     int support = s->desc.support && c->num_attachments == 0;
-    /* contacts are cached at the start of the frame; when the cloth itself moves fast (a
-     * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are
-     * refreshed every few steps: reach / (steps * dt) is the fastest a point may approach the
-     * body unseen (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is carried by
-     * the feature points and the moving frame. The seed searches every step. */
-    int refresh = frame_travel(c, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
     int threads = 1;
 #ifdef _OPENMP
     threads = omp_get_max_threads();
@@ -301,6 +360,9 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
     for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++)
         atomic_store(&cs->settle[k], 0u);
     cs->settle_rounds = 0;
+    atomic_store(&cs->fp_moved, 0);
+    atomic_store(&cs->travel2, 0u);
+    double t0 = now_ms(), t_fp = t0, t_contacts = t0;
 #pragma omp parallel num_threads(threads)
     {
         sim_phase_cursor cur;
@@ -310,6 +372,14 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
         nt = omp_get_num_threads();
 #endif
         sim_phase_cursor_init(&cur, t, nt < ph->threads ? nt : ph->threads);
+        /* contacts are cached at the start of the frame; when the cloth itself moves fast (a
+         * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are
+         * refreshed every few steps: reach / (steps * dt) is the fastest a point may approach
+         * the body unseen (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is
+         * carried by the feature points and the moving frame. The seed searches every step. */
+        int refresh = frame_start(s, cs, ph, &cur, iters, &t_fp, &t_contacts) > SIM_REFRESH_TRAVEL
+                          ? SIM_CONTACT_EVERY
+                          : 0;
         for (int it = 0; it < iters; it++) {
             /* per vertex: the contacts refreshed, Verlet, the attachments placed (the previous
              * phase's tethers were the last to read them) */
@@ -351,6 +421,12 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
         }
         settle_rounds(s, cs, ph, &cur, limit, refresh);
     }
+    double t1 = now_ms();
+    st->feature_points_moved = atomic_load(&cs->fp_moved);
+    st->ms_feature_points = (float)(t_fp - t0);
+    st->ms_contacts = (float)(t_contacts - t_fp);
+    st->ms_iterations = (float)(t1 - t_contacts);
+    st->settle_rounds = cs->settle_rounds;
 }
 
 static void iterations_seed(struct sim *s, c_state *cs, int iters, float dt, float keep,
@@ -407,6 +483,10 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     float keep = s->desc.damping > 0.0f ? powf(1.0f - s->desc.damping, dt) : 1.0f;
     float g[3] = {0.0f, -s->desc.gravity_m_s2 * dt * dt, 0.0f};
 
+    if (s->desc.solver == SIM_SOLVER_TRYON) {
+        iterations_tryon(s, cs, iters, dt, keep, g, st);
+        return 0;
+    }
     double t0 = now_ms();
     st->feature_points_moved = 0;
     if (s->follow_on)
@@ -414,27 +494,13 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     if (s->body.have_prev)
         st->feature_points_moved =
             sim_collider_feature_points(s->collider, c->x, c->x_prev, 0, c->nv);
-    attachment_targets(s, cs);
+    attachment_targets(s, cs, 0, c->nv);
     double t1 = now_ms();
     st->ms_feature_points = (float)(t1 - t0);
-    if (s->desc.solver == SIM_SOLVER_SEED) {
-        float ms_contacts = 0.0f;
-        iterations_seed(s, cs, iters, dt, keep, g, &ms_contacts);
-        st->ms_contacts = ms_contacts;
-        st->ms_iterations = (float)(now_ms() - t1) - ms_contacts;
-    } else {
-#pragma omp parallel
-        {
-            int vb, ve;
-            thread_range(c->nv, &vb, &ve);
-            sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, vb, ve);
-        }
-        double t2 = now_ms();
-        st->ms_contacts = (float)(t2 - t1);
-        iterations_tryon(s, cs, iters, dt, keep, g);
-        st->settle_rounds = cs->settle_rounds;
-        st->ms_iterations = (float)(now_ms() - t2);
-    }
+    float ms_contacts = 0.0f;
+    iterations_seed(s, cs, iters, dt, keep, g, &ms_contacts);
+    st->ms_contacts = ms_contacts;
+    st->ms_iterations = (float)(now_ms() - t1) - ms_contacts;
     return 0;
 }
 
