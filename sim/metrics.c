@@ -3,34 +3,40 @@
 
 #include "cloth.h"
 
-/* Hoare's selection: the k-th smallest of a[0..n), reordering a. O(n) expected, no allocation. */
+/* Restore the min-heap order of h[0..m) below position i. */
+static void sift_down(float *h, int m, int i)
+{
+    for (;;) {
+        int l = 2 * i + 1, r = l + 1, s = i;
+        if (l < m && h[l] < h[s])
+            s = l;
+        if (r < m && h[r] < h[s])
+            s = r;
+        if (s == i)
+            return;
+        float t = h[i];
+        h[i] = h[s];
+        h[s] = t;
+        i = s;
+    }
+}
+
+/* The k-th smallest (from 0) of a[0..n), reordering a: the smallest of the n - k largest, kept in
+   a min-heap in a[0..n-k) while the rest is scanned. For the 99th percentile the heap is a
+   hundredth of the values and most of the others cost one comparison (Hoare's selection, before:
+   several passes of swaps, 0.1 ms a frame for 21,000 springs, on one thread). No NaN (strains
+   are never NaN: spring_strain). */
 static float select_kth(float *a, int n, int k)
 {
-    int lo = 0, hi = n - 1;
-    while (lo < hi) {
-        float pivot = a[(lo + hi) / 2];
-        int i = lo, j = hi;
-        while (i <= j) {
-            while (a[i] < pivot)
-                i++;
-            while (a[j] > pivot)
-                j--;
-            if (i <= j) {
-                float t = a[i];
-                a[i] = a[j];
-                a[j] = t;
-                i++;
-                j--;
-            }
+    int m = n - k;
+    for (int i = m / 2 - 1; i >= 0; i--)
+        sift_down(a, m, i);
+    for (int i = m; i < n; i++)
+        if (a[i] > a[0]) {
+            a[0] = a[i];
+            sift_down(a, m, 0);
         }
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            break;
-    }
-    return a[k];
+    return a[0];
 }
 
 /* Strain (|xi - xj| - rest) / rest of spring s; a NaN counts as the worst strain, so divergence

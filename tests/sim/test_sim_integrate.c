@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -170,10 +171,59 @@ static void test_sim_frame_free_fall(void **state)
     }
 }
 
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* sim_strain_stats against a sort: 2,000 stretch springs of random lengths (a tenth of them
+   repeating one length: ties), 500 shear springs stretched far more that must not count. */
+static void test_sim_strain_stats_match_sort(void **state)
+{
+    (void)state;
+    enum { NS = 2000, NO = 500 };
+    sim_cloth c;
+    memset(&c, 0, sizeof c);
+    c.ns = NS + NO;
+    c.nv = 2 * c.ns;
+    c.x = calloc((size_t)c.nv, sizeof *c.x);
+    c.ends = calloc((size_t)c.ns, sizeof *c.ends);
+    c.rest = calloc((size_t)c.ns, sizeof *c.rest);
+    c.kind = calloc((size_t)c.ns, 1);
+    float *scratch = calloc((size_t)c.ns, sizeof *scratch), *expect = calloc(NS, sizeof *expect);
+    uint32_t seed = 99u;
+    for (int s = 0; s < c.ns; s++) {
+        seed = seed * 1664525u + 1013904223u;
+        float len = s % 10 == 3 ? 1.02f : 0.95f + 0.1f * (float)(seed >> 8) / 16777216.0f;
+        c.kind[s] = s < NS ? SIM_SPRING_STRETCH : SIM_SPRING_SHEAR;
+        if (s >= NS)
+            len = 2.0f;
+        c.ends[s][0] = 2 * s;
+        c.ends[s][1] = 2 * s + 1;
+        c.x[2 * s + 1][0] = len;
+        c.rest[s] = 1.0f;
+    }
+    for (int s = 0; s < NS; s++)
+        expect[s] = (sqrtf(c.x[2 * s + 1][0] * c.x[2 * s + 1][0]) - 1.0f) / 1.0f;
+    qsort(expect, NS, sizeof *expect, cmp_float);
+    float mx = -1.0f, p99 = -1.0f;
+    sim_strain_stats(&c, scratch, &mx, &p99);
+    assert_true(mx == expect[NS - 1]);
+    assert_true(p99 == expect[(int)floorf(0.99f * (float)(NS - 1))]);
+    free(c.x);
+    free(c.ends);
+    free(c.rest);
+    free(c.kind);
+    free(scratch);
+    free(expect);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_verlet_free_fall_matches_closed_form),
+        cmocka_unit_test(test_sim_strain_stats_match_sort),
         cmocka_unit_test(test_sim_project_spring_by_hand),
         cmocka_unit_test(test_sim_spring_passes_wide_equal_scalar),
         cmocka_unit_test(test_sim_spring_force_by_hand),
