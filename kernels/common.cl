@@ -163,7 +163,7 @@ int sim_bvh_nearest(int n, __global const int2 *child, __global const int *order
 }
 
 /* Twins of the segment cast in sim/penetration.c: "is p clearly outside the body?" by the parity
-   of the crossings of a vertical segment to above the body. */
+   of the crossings of a segment out of the body's box. */
 #define SEG_SLACK   1e-5f
 #define SEG_BOX_PAD 1e-6f
 
@@ -246,14 +246,35 @@ int sim_segment_crossings(int n, __global const int2 *child, __global const int 
     return count;
 }
 
-/* Twin of sim_collider_clearly_outside. */
+/* Twin of sim_collider_clearly_outside: sideways, away from the vertical axis through the centre
+   of the body's box, out past its side; within SEG_AXIS_M of the axis, up. */
+#define SEG_AXIS_M 0.01f
+
 int sim_clearly_outside(int n, __global const int2 *child, __global const int *order,
                         __global const float4 *lo, __global const float4 *hi,
                         __global const float4 *v, __global const int4 *tris, float4 p)
 {
-    float4 d = (float4)(0.0f, hi[0].y + 0.01f - p.y, 0.0f, 0.0f);
-    if (!(d.y > 0.0f))
-        return 1;
+    float4 b0 = lo[0], b1 = hi[0];
+    float4 d = (float4)(p.x - 0.5f * (b0.x + b1.x), 0.0f, p.z - 0.5f * (b0.z + b1.z), 0.0f);
+    if (d.x * d.x + d.z * d.z > SEG_AXIS_M * SEG_AXIS_M) {
+        float tmax = INFINITY;
+        if (d.x != 0.0f) {
+            float t = ((d.x > 0.0f ? b1.x + 0.01f : b0.x - 0.01f) - p.x) / d.x;
+            tmax = t < tmax ? t : tmax;
+        }
+        if (d.z != 0.0f) {
+            float t = ((d.z > 0.0f ? b1.z + 0.01f : b0.z - 0.01f) - p.z) / d.z;
+            tmax = t < tmax ? t : tmax;
+        }
+        if (!(tmax > 0.0f))
+            return 1;
+        d.x *= tmax;
+        d.z *= tmax;
+    } else {
+        d = (float4)(0.0f, b1.y + 0.01f - p.y, 0.0f, 0.0f);
+        if (!(d.y > 0.0f))
+            return 1;
+    }
     int c = sim_segment_crossings(n, child, order, lo, hi, v, tris, p, d, 1.0f);
     return c >= 0 && c % 2 == 0;
 }

@@ -7,10 +7,10 @@
  * inside from outside, and just short of q the segment is outside. So only a segment cast through
  * the tree is needed (a thin line touches few boxes); when it hits anything, or p is on the
  * inner side, the unbounded nearest search decides. A point without a contact is far from the
- * surface: the parity of the crossings of a vertical segment to above the body tells outside
- * (even) from inside; an odd count, or a crossing too near an edge to count, goes to the exact
- * search. Cheaper still, and first: a point the contact search of this body frame saw outside
- * by w, that has moved less than w since, is outside (still_outside).
+ * surface: the parity of the crossings of a segment out of the body's box (sideways, away from its
+ * vertical axis) tells outside (even) from inside; an odd count, or a crossing too near an edge to
+ * count, goes to the exact search. Cheaper still, and first: a point the contact search of this
+ * body frame saw outside by w, that has moved less than w since, is outside (still_outside).
  * sim_collider_penetration_exact does the unbounded search for every point. */
 #include <math.h>
 
@@ -22,7 +22,9 @@
 #define SEG_SLACK 1e-5f
 /* Box slack for the segment's traversal, metres: above float rounding of a 2 m scene. */
 #define SEG_BOX_PAD 1e-6f
-#define SEG_STACK   (3 * 96) /* the LBVH depth bound, three more a level when 4-wide */
+#define SEG_STACK   (3 * 96) /* the trees' depth bound, three more a level when 4-wide */
+/* Within this of the body's vertical axis (metres) the parity segment goes up, not sideways. */
+#define SEG_AXIS_M 0.01f
 /* Slack on a clearance bound, metres: far above the rounding of a distance in a 2 m scene
    (float ulp there ~2e-7 m), far below the metric's 1 mm tolerance. */
 #define CLEAR_SLACK 1e-5f
@@ -127,11 +129,33 @@ static int segment_crossings(const sim_collider *c, const float p[3], const floa
     return n;
 }
 
+/* The segment runs horizontally away from the vertical axis through the centre of the body's box,
+   out past the box's side: for a point beside the body (a hem, a sleeve) the shortest way out,
+   through a few boxes, where a segment up to above the body's box runs along the torso and the
+   arm (measured: the casts' share of the body scene's time 2.9 -> 1.1 %). A point within
+   SEG_AXIS_M of the axis takes the segment up. Any segment out of the box gives the same parity
+   for a closed body; the kernel's twin (sim_clearly_outside) casts the same one. */
 int sim_collider_clearly_outside(const sim_collider *c, const float p[3])
 {
-    float d[3] = {0.0f, c->bvh.hi[0][1] + 0.01f - p[1], 0.0f};
-    if (!(d[1] > 0.0f))
-        return 1; /* above the body's box */
+    const float *lo = c->bvh.lo[0], *hi = c->bvh.hi[0];
+    float d[3] = {p[0] - 0.5f * (lo[0] + hi[0]), 0.0f, p[2] - 0.5f * (lo[2] + hi[2])};
+    if (d[0] * d[0] + d[2] * d[2] > SEG_AXIS_M * SEG_AXIS_M) {
+        float tmax = INFINITY;
+        for (int k = 0; k < 3; k += 2)
+            if (d[k] != 0.0f) {
+                float t = ((d[k] > 0.0f ? hi[k] + 0.01f : lo[k] - 0.01f) - p[k]) / d[k];
+                tmax = t < tmax ? t : tmax;
+            }
+        if (!(tmax > 0.0f))
+            return 1; /* beside the body's box */
+        d[0] *= tmax;
+        d[2] *= tmax;
+    } else {
+        d[0] = d[2] = 0.0f;
+        d[1] = hi[1] + 0.01f - p[1];
+        if (!(d[1] > 0.0f))
+            return 1; /* above the body's box */
+    }
     int n = segment_crossings(c, p, d, 1.0f);
     return n >= 0 && n % 2 == 0;
 }
