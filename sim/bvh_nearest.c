@@ -171,16 +171,17 @@ void sim_closest_on_triangle4(const float p[3], const float tri[3][3][4], float 
 /* Sorted leaf i against the best so far: nearer, or as near with a lower triangle index. */
 static void nearest_leaf(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                          const float p[3], int i, int *best, float *best_d2, float q[3],
-                         float bary[3])
+                         float bary[3], int *region)
 {
     int t = b->order[i];
     float cq[3], cb[3];
-    sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
+    int r = sim_closest_on_triangle(p, v[tris[t][0]], v[tris[t][1]], v[tris[t][2]], cq, cb);
     float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
     float d2 = dx * dx + dy * dy + dz * dz;
     if (d2 < *best_d2 || (d2 == *best_d2 && (*best < 0 || t < *best))) {
         *best = t;
         *best_d2 = d2;
+        *region = r;
         memcpy(q, cq, sizeof cq);
         memcpy(bary, cb, sizeof cb);
     }
@@ -257,7 +258,8 @@ static inline int mask_bits4(i4 m)
    slot whose triangle is farther than the best on entry changes nothing (the best only shrinks),
    so only the others are taken. */
 static void nearest_leaves4(const sim_bvh_leaf4 *l, int within, const float box_d2[4],
-                            const float p[3], int *best, float *best_d2, float q[3], float bary[3])
+                            const float p[3], int *best, float *best_d2, float q[3], float bary[3],
+                            int *region)
 {
     f4 vq[3], vb[3], vd2;
     i4 reg;
@@ -266,9 +268,11 @@ static void nearest_leaves4(const sim_bvh_leaf4 *l, int within, const float box_
     if (!take)
         return;
     float cq[3][4], cb[3][4], cd2[4];
+    int32_t creg[4];
     memcpy(cq, vq, sizeof cq);
     memcpy(cb, vb, sizeof cb);
     memcpy(cd2, &vd2, sizeof cd2);
+    memcpy(creg, &reg, sizeof creg);
     for (int k = 0; k < 4; k++) {
         if (!(take >> k & 1) || !(box_d2[k] <= *best_d2))
             continue;
@@ -277,6 +281,7 @@ static void nearest_leaves4(const sim_bvh_leaf4 *l, int within, const float box_
         if (d2 < *best_d2 || (d2 == *best_d2 && (*best < 0 || t < *best))) {
             *best = t;
             *best_d2 = d2;
+            *region = creg[k];
             for (int a = 0; a < 3; a++) {
                 q[a] = cq[a][k];
                 bary[a] = cb[a][k];
@@ -297,7 +302,8 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
    pushed first (ties: the lower slot first), so the nearest is popped next: it is not pushed but
    taken at once (its pop would find it within the best, which has not changed since). */
 static void nearest_wide(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
-                         const float p[3], int *best, float *best_d2, float q[3], float bary[3])
+                         const float p[3], int *best, float *best_d2, float q[3], float bary[3],
+                         int *region)
 {
     sim_bvh_node4 mine;
     sim_bvh_leaf4 mine_leaf;
@@ -315,7 +321,7 @@ static void nearest_wide(const sim_bvh *b, const float (*v)[4], const int32_t (*
             int slots = (1 << w->count) - 1;
             int within = mask_bits4(vd2 <= splat4(*best_d2)) & slots;
             if (within & w->leaf_mask) {
-                nearest_leaves4(leaf, within & w->leaf_mask, d2, p, best, best_d2, q, bary);
+                nearest_leaves4(leaf, within & w->leaf_mask, d2, p, best, best_d2, q, bary, region);
                 within &= mask_bits4(vd2 <= splat4(*best_d2));
             }
             within &= ~w->leaf_mask;
@@ -356,7 +362,14 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
                          const float p[3], float radius_m, int hint, float q[3], float bary[3],
                          float *dist_m)
 {
-    int best = -1;
+    return sim_bvh_nearest_region(b, v, tris, p, radius_m, hint, q, bary, dist_m, NULL);
+}
+
+int sim_bvh_nearest_region(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                           const float p[3], float radius_m, int hint, float q[3], float bary[3],
+                           float *dist_m, int *region_out)
+{
+    int best = -1, region = SIM_REGION_FACE;
     float best_d2 = radius_m * radius_m;
     if (b->n < 1)
         return -1;
@@ -364,21 +377,25 @@ int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*
         /* The hint only shrinks the search ball: a node is pruned when strictly farther than the
            best so far, so ties are still visited and the answer is the hint-free one. */
         float cq[3], cb[3];
-        sim_closest_on_triangle(p, v[tris[hint][0]], v[tris[hint][1]], v[tris[hint][2]], cq, cb);
+        int r = sim_closest_on_triangle(p, v[tris[hint][0]], v[tris[hint][1]], v[tris[hint][2]], cq,
+                                        cb);
         float dx = p[0] - cq[0], dy = p[1] - cq[1], dz = p[2] - cq[2];
         float d2 = dx * dx + dy * dy + dz * dz;
         if (d2 <= best_d2) {
             best = hint;
             best_d2 = d2;
+            region = r;
             memcpy(q, cq, sizeof cq);
             memcpy(bary, cb, sizeof cb);
         }
     }
     if (b->n == 1)
-        nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary);
+        nearest_leaf(b, v, tris, p, 0, &best, &best_d2, q, bary, &region);
     else
-        nearest_wide(b, v, tris, p, &best, &best_d2, q, bary);
+        nearest_wide(b, v, tris, p, &best, &best_d2, q, bary, &region);
     if (best >= 0 && dist_m)
         *dist_m = sqrtf(best_d2);
+    if (best >= 0 && region_out)
+        *region_out = region;
     return best;
 }

@@ -245,6 +245,11 @@ int sim_bvh_nearest(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)
 int sim_bvh_nearest_from(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
                          const float p[3], float radius_m, int hint, float q[3], float bary[3],
                          float *dist_m);
+/* The same, and the region of the closest point on the triangle found (sim_closest_on_triangle's,
+   bit for bit: the sign of a signed distance needs it). region may be NULL. */
+int sim_bvh_nearest_region(const sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4],
+                           const float p[3], float radius_m, int hint, float q[3], float bary[3],
+                           float *dist_m, int *region);
 
 /* Triangles whose leaf box (static, or swept when swept != 0; both inflated by pad) contains p, up
    to max_out of them written to out; returns how many contain p (which may exceed max_out). */

@@ -28,14 +28,30 @@
 #define ACTIVE_MASK UINT64_C(0xff)
 #define NEXT_MASK   UINT64_C(0xffffff)
 
-/* The metric's bound for point i at p, whose contact search against this body frame gave t: t is
-   the nearest triangle of all (within reach, or at any distance), so its pseudo-normal signs the
-   distance exactly; none (-1) means nothing within reach and clearly outside. */
-static void set_clearance(sim_collider *c, int i, const float p[3], int t)
+/* The signed distance of p to triangle t whose closest point to p is q, in region (what
+   sim_collider_signed_distance computes, from the search's own closest point). */
+static float signed_distance_at(const sim_collider *c, int t, const float p[3], const float q[3],
+                                int region)
+{
+    float d[3], pn[3];
+    sim_v3_sub(p, q, d);
+    float dist = sqrtf(sim_v3_dot(d, d));
+    if (region == SIM_REGION_FACE)
+        return sim_v3_dot(d, c->n[t]);
+    sim_collider_pseudo_normal(c, t, region, pn);
+    return sim_v3_dot(d, pn) >= 0.0f ? dist : -dist;
+}
+
+/* The metric's bound for point i at p, whose contact search against this body frame gave t
+   (closest point q, in region): t is the nearest triangle of all (within reach, or at any
+   distance), so its pseudo-normal signs the distance exactly; none (-1) means nothing within
+   reach and clearly outside. */
+static void set_clearance(sim_collider *c, int i, const float p[3], int t, const float q[3],
+                          int region)
 {
     float clear = c->d.thickness_m + c->d.reach_m;
     if (t >= 0)
-        clear = sim_collider_signed_distance(c, t, p);
+        clear = q ? signed_distance_at(c, t, p, q, region) : sim_collider_signed_distance(c, t, p);
     c->clear[i][0] = p[0];
     c->clear[i][1] = p[1];
     c->clear[i][2] = p[2];
@@ -51,13 +67,15 @@ static void search_points(sim_collider *c, const float (*x)[4], int begin, int e
     const int32_t(*tris)[4] = (const int32_t(*)[4])c->tris;
     for (int i = begin; i < end; i++) {
         float q[3], bary[3], dist;
-        int t = c->nt > 0 ? sim_bvh_nearest_from(&c->bvh, v, tris, x[i], reach, c->contact[i], q,
-                                                 bary, &dist)
+        int region = SIM_REGION_FACE;
+        int t = c->nt > 0 ? sim_bvh_nearest_region(&c->bvh, v, tris, x[i], reach, c->contact[i], q,
+                                                   bary, &dist, &region)
                           : -1;
         if (t < 0 && c->nt > 0 && !sim_collider_clearly_outside(c, x[i]))
-            t = sim_bvh_nearest(&c->bvh, v, tris, x[i], INFINITY, q, bary, &dist);
+            t = sim_bvh_nearest_region(&c->bvh, v, tris, x[i], INFINITY, -1, q, bary, &dist,
+                                       &region);
         c->contact[i] = t;
-        set_clearance(c, i, x[i], t);
+        set_clearance(c, i, x[i], t, q, region);
     }
 }
 
@@ -149,6 +167,6 @@ void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int
     for (int i = begin; i < end; i++) {
         int t = contact[i] >= 0 && contact[i] < c->nt ? contact[i] : -1;
         c->contact[i] = t;
-        set_clearance(c, i, x[i], t);
+        set_clearance(c, i, x[i], t, NULL, 0);
     }
 }

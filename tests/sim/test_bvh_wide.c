@@ -311,6 +311,16 @@ static void check_search(const mesh *m, uint32_t seed, int queries)
                     assert_true(same_float(q[k], rq[k]));
                     assert_true(same_float(bary[k], rb[k]));
                 }
+                /* the region the search reports is the scalar closest point's of its answer */
+                int region = -1;
+                float q2[3], b2[3], cq[3], cb[3], d2;
+                assert_int_equal(sim_bvh_nearest_region(&b, (const float(*)[4])m->v,
+                                                        (const int32_t(*)[4])m->tris, p, radii[r],
+                                                        hints[h], q2, b2, &d2, &region),
+                                 t);
+                const int32_t *f = m->tris[t];
+                assert_int_equal(
+                    region, sim_closest_on_triangle(p, m->v[f[0]], m->v[f[1]], m->v[f[2]], cq, cb));
             }
         }
     }
