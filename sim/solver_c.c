@@ -276,17 +276,11 @@ static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_
     int nstretch = c->color_start[c->num_stretch_colors], b, e;
     float prev = 0.0f;
     for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++) {
-        while (sim_phase_claim(ph, cur, nstretch, GRAIN_SPRINGS, &b, &e)) {
-            float m = sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e);
-            uint32_t bits, seen = atomic_load(&cs->settle[k]);
-            memcpy(&bits, &m, sizeof bits);
-            while (bits > seen && !atomic_compare_exchange_weak(&cs->settle[k], &seen, bits))
-                ;
-        }
+        while (sim_phase_claim(ph, cur, nstretch, GRAIN_SPRINGS, &b, &e))
+            atomic_max_bits(&cs->settle[k], sim_stretch_max((const float(*)[4])c->x, c->ends,
+                                                            c->rest, c->kind, b, e));
         sim_phase_end(ph, cur, 1);
-        uint32_t bits = atomic_load(&cs->settle[k]);
-        float m;
-        memcpy(&m, &bits, sizeof m);
+        float m = bits_float(&cs->settle[k]);
         if (!(m > SIM_SETTLE_STRAIN) || (!refresh && k > 0 && !(m < SIM_SETTLE_PROGRESS * prev)))
             return;
         prev = m;
