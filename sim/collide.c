@@ -439,17 +439,24 @@ void sim_collider_pseudo_normal(const sim_collider *c, int t, int region, float 
     }
 }
 
-float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3])
+float sim_collider_signed_distance_at(const sim_collider *c, int t, const float p[3],
+                                      const float q[3], int region)
 {
-    float q[3], bary[3], d[3], pn[3];
-    const int32_t *f = c->tris[t];
-    int region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    float d[3], pn[3];
     sim_v3_sub(p, q, d);
     float dist = sqrtf(sim_v3_dot(d, d));
     if (region == SIM_REGION_FACE)
         return sim_v3_dot(d, c->n[t]);
     sim_collider_pseudo_normal(c, t, region, pn);
     return sim_v3_dot(d, pn) >= 0.0f ? dist : -dist;
+}
+
+float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3])
+{
+    float q[3], bary[3];
+    const int32_t *f = c->tris[t];
+    int region = sim_closest_on_triangle(p, c->v[f[0]], c->v[f[1]], c->v[f[2]], q, bary);
+    return sim_collider_signed_distance_at(c, t, p, q, region);
 }
 
 /* Squared distance from p to triangle t and the region of its closest point. */

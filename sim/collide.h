@@ -328,5 +328,9 @@ float sim_acos(float x);
 
 /* Signed distance of p to the body through triangle t (its closest point and pseudo-normal). */
 float sim_collider_signed_distance(const sim_collider *c, int t, const float p[3]);
+/* The same from t's closest point q to p, in region (sim_closest_on_triangle's, or the nearest
+   search's: sim_bvh_nearest_region), without computing them again. */
+float sim_collider_signed_distance_at(const sim_collider *c, int t, const float p[3],
+                                      const float q[3], int region);
 
 #endif

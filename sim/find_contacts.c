@@ -28,20 +28,6 @@
 #define ACTIVE_MASK UINT64_C(0xff)
 #define NEXT_MASK   UINT64_C(0xffffff)
 
-/* The signed distance of p to triangle t whose closest point to p is q, in region (what
-   sim_collider_signed_distance computes, from the search's own closest point). */
-static float signed_distance_at(const sim_collider *c, int t, const float p[3], const float q[3],
-                                int region)
-{
-    float d[3], pn[3];
-    sim_v3_sub(p, q, d);
-    float dist = sqrtf(sim_v3_dot(d, d));
-    if (region == SIM_REGION_FACE)
-        return sim_v3_dot(d, c->n[t]);
-    sim_collider_pseudo_normal(c, t, region, pn);
-    return sim_v3_dot(d, pn) >= 0.0f ? dist : -dist;
-}
-
 /* The metric's bound for point i at p, whose contact search against this body frame gave t
    (closest point q, in region): t is the nearest triangle of all (within reach, or at any
    distance), so its pseudo-normal signs the distance exactly; none (-1) means nothing within
@@ -51,7 +37,8 @@ static void set_clearance(sim_collider *c, int i, const float p[3], int t, const
 {
     float clear = c->d.thickness_m + c->d.reach_m;
     if (t >= 0)
-        clear = q ? signed_distance_at(c, t, p, q, region) : sim_collider_signed_distance(c, t, p);
+        clear = q ? sim_collider_signed_distance_at(c, t, p, q, region)
+                  : sim_collider_signed_distance(c, t, p);
     c->clear[i][0] = p[0];
     c->clear[i][1] = p[1];
     c->clear[i][2] = p[2];
