@@ -278,6 +278,28 @@ static void test_bvh_sah_coincident_triangles(void **state)
     free_mesh(&m);
 }
 
+/* The smallest trees (2, 3 and 5 triangles), both builds: valid, and the queries' answers. */
+static void test_bvh_small_trees(void **state)
+{
+    (void)state;
+    const int sizes[3] = {2, 3, 5};
+    for (int k = 0; k < 3; k++)
+        for (int sah = 0; sah < 2; sah++) {
+            mesh m = make_mesh(100u + (uint32_t)k);
+            m.nt = sizes[k];
+            sim_bvh b;
+            double cost;
+            assert_int_equal(sim_bvh_init(&b, m.nt), 0);
+            (sah ? sim_bvh_build : sim_bvh_build_lbvh)(&b, (const float(*)[4])m.v_prev,
+                                                       (const float(*)[4])m.v,
+                                                       (const int32_t(*)[4])m.tris, m.nt, 0.0f);
+            assert_true(check_tree(&b, m.nt, &cost) <= m.nt - 1);
+            check_queries(&b, &m, 55u, 0.0f);
+            sim_bvh_free(&b);
+            free_mesh(&m);
+        }
+}
+
 static void test_bvh_morton_interleaves_axes(void **state)
 {
     (void)state;
@@ -316,6 +338,7 @@ int main(void)
         cmocka_unit_test(test_bvh_refit_equals_rebuild),
         cmocka_unit_test(test_bvh_trees_are_binary_trees),
         cmocka_unit_test(test_bvh_sah_coincident_triangles),
+        cmocka_unit_test(test_bvh_small_trees),
         cmocka_unit_test(test_bvh_morton_interleaves_axes),
         cmocka_unit_test(test_bvh_single_triangle),
     };
