@@ -428,3 +428,13 @@ const sim_backend_ops sim_backend_opencl = {
     .upload = cl_upload,
     .device_name = cl_device_name,
 };
+
+int sim_opencl_device(char *name, size_t name_size)
+{
+    sim_cl cl;
+    char err[256] = "";
+    int rc = sim_cl_probe(&cl, err, sizeof err);
+    if (name && name_size > 0)
+        snprintf(name, name_size, "%s", rc == 0 ? cl.device_name : err);
+    return rc != 0 ? -1 : cl.is_gpu ? 1 : 0;
+}

@@ -131,6 +131,17 @@ static int choose_device(sim_cl *cl, char *err, size_t err_size)
     return 0;
 }
 
+int sim_cl_probe(sim_cl *cl, char *err, size_t err_size)
+{
+    if (!cl)
+        return SIM_CL_EARG;
+    memset(cl, 0, sizeof *cl);
+    int rc = choose_device(cl, err, err_size);
+    if (rc == 0)
+        describe(cl);
+    return rc;
+}
+
 int sim_cl_open(sim_cl *cl, char *err, size_t err_size)
 {
     if (!cl)

@@ -39,6 +39,9 @@ typedef struct sim_cl {
     int is_gpu;
 } sim_cl;
 
+/* Choose the device as sim_cl_open would, and only describe it (device_name, is_gpu): no context
+   is made, nothing needs closing. */
+int sim_cl_probe(sim_cl *cl, char *err, size_t err_size);
 /* Choose the device and make its context and in-order queue. On failure cl is left closed. */
 int sim_cl_open(sim_cl *cl, char *err, size_t err_size);
 /* Build one program from kernels/common.cl followed by the named embedded files, with options

@@ -36,6 +36,7 @@ typedef struct app {
     const char *garment_path;
     int verts, frames_wanted, frames_done, skipped, triangles_every;
     int every_body;      /* --queue all: simulate every body; else only the newest one */
+    int backend_auto;    /* --backend auto (the default): OpenCL on a GPU, else C (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* arrived while a newer one was waiting: not simulated */
     pending_body next;
@@ -47,6 +48,28 @@ typedef struct app {
     float *xyz; /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
 } app;
+
+/* --backend auto: the OpenCL backend where the device it would open is a GPU or TRYON_CL_DEVICE
+   names one, the C backend otherwise: on a machine without a GPU the OpenCL device is a CPU
+   (PoCL), where the C backend is 4-5x faster on the same cores (docs/sim.md, the headline). */
+static void auto_backend(app *a)
+{
+    char name[256];
+    int gpu = sim_opencl_device(name, sizeof name);
+    const char *want = getenv("TRYON_CL_DEVICE");
+    if (gpu == 1 || (want && *want && gpu >= 0)) {
+        a->desc.backend = SIM_BACKEND_OPENCL;
+        return;
+    }
+    a->desc.backend = SIM_BACKEND_C;
+    if (gpu == 0)
+        fprintf(stderr,
+                "tryon-sim: the OpenCL device, %s, is not a GPU: the C backend, faster there "
+                "(--backend opencl to use it anyway)\n",
+                name);
+    else
+        fprintf(stderr, "tryon-sim: no OpenCL device (%s): the C backend\n", name);
+}
 
 static int make_sim(app *a, const pending_body *b)
 {
@@ -65,6 +88,8 @@ static int make_sim(app *a, const pending_body *b)
                 why.detail);
         return -1;
     }
+    if (a->backend_auto)
+        auto_backend(a);
     a->sim = sim_create(&a->desc, &g, &why);
     if (!a->sim && why.code == SIM_ERR_BACKEND && a->desc.backend == SIM_BACKEND_OPENCL) {
         fprintf(stderr, "tryon-sim: %s; falling back to the C backend\n", why.detail);
@@ -209,9 +234,11 @@ static void step_body(app *a)
 static int usage(void)
 {
     fprintf(stderr,
-            "usage: tryon-sim [--backend opencl|c] [--solver tryon|seed] [--garment FILE]\n"
+            "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F]\n"
+            "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
+            "          names a device), else C; opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
             "          newest is simulated and the older ones are counted as superseded, so\n"
             "          latency stays one frame; all: every body, in order (replays, tests)\n"
@@ -224,16 +251,18 @@ static int usage(void)
 static int parse(app *a, int argc, char **argv)
 {
     a->desc = sim_default_desc();
-    a->desc.backend = SIM_BACKEND_OPENCL; /* the product runs on the GPU; --backend c falls back */
+    a->backend_auto = 1; /* the product runs on the GPU where there is one (auto_backend) */
     a->verts = 7000;
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!v)
             return -1;
-        if (!strcmp(o, "--backend") && (!strcmp(v, "c") || !strcmp(v, "opencl")))
+        if (!strcmp(o, "--backend") &&
+            (!strcmp(v, "c") || !strcmp(v, "opencl") || !strcmp(v, "auto"))) {
+            a->backend_auto = !strcmp(v, "auto");
             a->desc.backend = !strcmp(v, "c") ? SIM_BACKEND_C : SIM_BACKEND_OPENCL;
-        else if (!strcmp(o, "--solver") && (!strcmp(v, "seed") || !strcmp(v, "tryon")))
+        } else if (!strcmp(o, "--solver") && (!strcmp(v, "seed") || !strcmp(v, "tryon")))
             a->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
         else if (!strcmp(o, "--garment"))
             a->garment_path = v;

@@ -257,6 +257,15 @@ static void clamp_seed_stiffness(sim_cloth *c, float dt)
             c->k[k] = k_max;
 }
 
+#ifndef SIM_HAVE_OPENCL
+int sim_opencl_device(char *name, size_t name_size)
+{
+    if (name && name_size > 0)
+        snprintf(name, name_size, "built without OpenCL");
+    return -1;
+}
+#endif
+
 static const sim_backend_ops *backend_ops(sim_backend b)
 {
 #ifdef SIM_HAVE_OPENCL

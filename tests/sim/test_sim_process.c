@@ -15,6 +15,7 @@
 
 #include "bus.h"
 #include "scene.h"
+#include "sim.h"
 #include "support.h"
 
 typedef struct counts {
@@ -162,6 +163,34 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     free(log);
 }
 
+/* --backend auto (the default): the OpenCL backend on a GPU (or the device TRYON_CL_DEVICE names),
+ * the C backend where the OpenCL device is a CPU (PoCL) or there is none, and the log says which
+ * and why. */
+static void test_sim_process_auto_backend(void **state)
+{
+    (void)state;
+    char name[256];
+    int gpu = sim_opencl_device(name, sizeof name);
+    const char *want = getenv("TRYON_CL_DEVICE");
+    int opencl = gpu == 1 || (want && *want && gpu >= 0);
+    session s;
+    session_start(&s, "auto", (char *[]){"--verts", "400", "--queue", "all", NULL});
+    char *log;
+    int status = session_stop(&s, &log);
+    printf("# OpenCL device: %s (%d); log:\n%s", name, gpu, log ? log : "(none)");
+    assert_int_equal(status, 0);
+    assert_non_null(log);
+    if (opencl) {
+        assert_non_null(strstr(log, "tryon solver on"));
+        assert_null(strstr(log, "C reference"));
+    } else {
+        assert_non_null(strstr(log, "tryon solver on C reference"));
+        assert_non_null(strstr(log, gpu == 0 ? "is not a GPU" : "no OpenCL device"));
+        assert_non_null(strstr(log, name));
+    }
+    free(log);
+}
+
 /* --queue latest (the default): a burst of bodies faster than the sim is collapsed to the
  * newest, so the cloth published last is the last body's and latency does not pile up. */
 static void test_sim_process_latest_body_wins(void **state)
@@ -194,6 +223,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_process_publishes_cloth_and_survives_bad_bodies),
         cmocka_unit_test(test_sim_process_latest_body_wins),
+        cmocka_unit_test(test_sim_process_auto_backend),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
