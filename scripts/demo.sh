@@ -6,7 +6,7 @@
 # Environment: TRYON_DEMO_MOTION (walk), TRYON_DEMO_FRAMES (90), TRYON_DEMO_BACKEND (c: faster
 # than PoCL's CPU OpenCL on a machine without a GPU; opencl where one is), TRYON_DEMO_BODY_VERTS
 # (6000: the body detail the camera supports, docs/sim.md "Body detail and the shape error"),
-# TRYON_LCM_URL.
+# TRYON_DEMO_RETRY_BUDGET (tryon-sim --retry-budget, ms; 0 = none, the default), TRYON_LCM_URL.
 set -euo pipefail
 build=${1:-build}
 cd "$(dirname "$0")/.."
@@ -15,6 +15,7 @@ motion=${TRYON_DEMO_MOTION:-walk}
 frames=${TRYON_DEMO_FRAMES:-90}
 backend=${TRYON_DEMO_BACKEND:-c}
 body_verts=${TRYON_DEMO_BODY_VERTS:-6000}
+retry_budget=${TRYON_DEMO_RETRY_BUDGET:-0}
 
 echo "== bus: a full-size depth frame over LCM"
 "$(bin tryon-bus-check)"
@@ -63,7 +64,8 @@ rm -f "$log"
 lcm-logger --quiet --channel "${TRYON_CHANNEL_PREFIX}.*" ${TRYON_LCM_URL:+--lcm-url="$TRYON_LCM_URL"} \
     "$log" >"$out/logger.txt" 2>&1 &
 pids+=($!)
-"$(bin tryon-sim)" --backend "$backend" --frames "$frames" >"$out/sim.txt" 2>&1 &
+"$(bin tryon-sim)" --backend "$backend" --frames "$frames" --retry-budget "$retry_budget" \
+    >"$out/sim.txt" 2>&1 &
 pids+=($!)
 sim=$!
 "$(bin tryon-truth)" --recording "$rec" --frames "$frames" >"$out/truth.txt" 2>&1 &

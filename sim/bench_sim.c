@@ -72,6 +72,7 @@ static void usage(void)
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
         "         [--strain-limit S (the clamp, default 0.0075)]\n"
         "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
+        "         [--retry-budget MS (those retries only within MS a frame; 0: no budget)]\n"
         "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
         "         [--ref-iterations N (default %d)] [--compare-ref M] [--window-ref]\n"
         "--window-ref: also the error to references restarted from the run's own state at\n"
@@ -129,6 +130,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.support = atoi(v);
         else if (strcmp(a, "--strain-retry") == 0)
             o->desc.retry_max_strain = o->desc.retry_p99_strain = atoi(v) < 0 ? -1.0f : 0.0f;
+        else if (strcmp(a, "--retry-budget") == 0)
+            o->desc.retry_budget_ms = (float)atof(v);
         else if (strcmp(a, "--strain-limit") == 0)
             o->desc.strain_limit = (float)atof(v);
         else if (strcmp(a, "--friction") == 0)

@@ -236,12 +236,14 @@ static int usage(void)
     fprintf(stderr,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
-            "                 [--follow F]\n"
+            "                 [--follow F] [--retry-budget MS]\n"
             "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
             "          names a device), else C; opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
             "          newest is simulated and the older ones are counted as superseded, so\n"
             "          latency stays one frame; all: every body, in order (replays, tests)\n"
+            "  --retry-budget MS: a frame missing the strain goals is done again with more\n"
+            "          iterations only while the frame fits in MS (0, default: always)\n"
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
@@ -272,6 +274,8 @@ static int parse(app *a, int argc, char **argv)
             a->desc.iterations = atoi(v);
         else if (!strcmp(o, "--follow") && atof(v) <= 1.0)
             a->desc.follow = (float)atof(v);
+        else if (!strcmp(o, "--retry-budget") && atof(v) >= 0.0)
+            a->desc.retry_budget_ms = (float)atof(v);
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))

@@ -137,10 +137,11 @@ static int check_desc(const sim_desc *d, sim_reject *why)
                               "positive and finite");
     if (!(d->damping < 1.0f) || !isfinite(d->friction) || !isfinite(d->gravity_m_s2) ||
         !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f) ||
-        !(d->follow <= 1.0f) || isnan(d->retry_max_strain) || isnan(d->retry_p99_strain))
+        !(d->follow <= 1.0f) || isnan(d->retry_max_strain) || isnan(d->retry_p99_strain) ||
+        isnan(d->retry_budget_ms))
         return sim_reject_set(why, SIM_ERR_PARAM,
                               "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0, "
-                              "follow <= 1, retry strains not NaN needed");
+                              "follow <= 1, retry strains and budget not NaN needed");
     if (d->backend != SIM_BACKEND_C && d->backend != SIM_BACKEND_OPENCL)
         return sim_reject_set(why, SIM_ERR_PARAM, "backend %d unknown", (int)d->backend);
     if (d->solver != SIM_SOLVER_TRYON && d->solver != SIM_SOLVER_SEED)
@@ -537,11 +538,16 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
         /* the good state's velocity is its last step's move: for another step, that step's */
         if (iters != s->iters_good)
             restep_velocity(s, s->iters_good, iters);
+        double ta = now_ms();
         r = s->ops->frame(s->backend, s, iters, st);
         add_stage_times(&sum, st);
         int good = r == 0 && !state_diverged(s, iters, &max_strain, &p99);
         excess = strain_excess(s, max_strain, p99);
-        if (good && (!(excess > 1.0f) || !strain_retry || attempt == SIM_MAX_RETRIES) &&
+        /* no time left for a retry twice as long as this attempt: publish the nearest so far */
+        double spent = now_ms();
+        int no_time = s->desc.retry_budget_ms > 0.0f &&
+                      (spent - t0) + 2.0 * (spent - ta) > (double)s->desc.retry_budget_ms;
+        if (good && (!(excess > 1.0f) || !strain_retry || attempt == SIM_MAX_RETRIES || no_time) &&
             !(best_excess < excess)) {
             ok = 1;
             break;
@@ -555,6 +561,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
             best_excess = excess;
             best_iters = iters;
         }
+        if (good && no_time)
+            break; /* an earlier attempt was nearer the goals: it is published below */
         /* restore the last good state and retry with smaller steps */
         restore_good(s);
         if (attempt < SIM_MAX_RETRIES) {

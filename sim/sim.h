@@ -83,6 +83,11 @@ typedef struct sim_desc {
      * goal (both: no such retries). */
     float retry_max_strain;
     float retry_p99_strain;
+    /* A live mirror's budget for those retries, ms (0 = none, the default): a retry for the
+     * strain goals is started only while the frame so far plus twice its last attempt stays
+     * within it; otherwise the attempt nearest the goals so far is published, its strain in the
+     * stats. A diverged attempt is retried whatever the budget. */
+    float retry_budget_ms;
     int max_body_vertices;  /* 0 = 100000 */
     int max_body_triangles; /* 0 = 200000 */
 } sim_desc;
