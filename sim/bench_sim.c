@@ -484,11 +484,12 @@ static int mesh_of_garment(const bench_opts *o, bench_mesh *m)
     return r;
 }
 
-/* Sum of squared distances (m^2) of the points pa to the surface of the garment at pb. */
+/* Sum of squared distances (m^2) of the points pa to the surface of the garment at pb. bvh: a
+   tree over the garment's triangles (any positions: it is refitted to pb here). */
 static double surface_d2(const bench_mesh *m, sim_bvh *bvh, const float (*pa)[4],
                          const float (*pb)[4])
 {
-    sim_bvh_build(bvh, pb, pb, (const int32_t(*)[4])m->tris, m->nt, 0.0f);
+    sim_bvh_refit(bvh, pb, pb, (const int32_t(*)[4])m->tris, 0.0f);
     double e2 = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : e2)
     for (int i = 0; i < m->nv; i++) {
@@ -519,6 +520,9 @@ static double *shape_d2(const bench_mesh *m, const float *a, const float *b, int
                 pa[i][d] = d < 3 ? a[at + (size_t)i * 3 + d] : 0.0f;
                 pb[i][d] = d < 3 ? b[at + (size_t)i * 3 + d] : 0.0f;
             }
+        if (k == 0) /* the garment's topology: built once, refitted to every snapshot */
+            sim_bvh_build(&bvh, (const float(*)[4])pb, (const float(*)[4])pb,
+                          (const int32_t(*)[4])m->tris, m->nt, 0.0f);
         d2[k] = surface_d2(m, &bvh, (const float(*)[4])pa, (const float(*)[4])pb) +
                 surface_d2(m, &bvh, (const float(*)[4])pb, (const float(*)[4])pa);
     }
