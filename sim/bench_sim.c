@@ -27,7 +27,8 @@ typedef struct bench_opts {
     const char *scene, *motion, *csv, *cache_dir;
     int verts, body_verts, ref_body_verts, iterations, frames, group, ref_iterations, compare_ref;
     sim_desc desc;
-    int no_ref, window_ref;
+    int no_ref, window_ref, window_frames;
+    float hem_m; /* the shirt's hem below the pelvis joint (sim_garment_shirt; 0: its default) */
 } bench_opts;
 
 typedef struct bench_run {
@@ -35,6 +36,9 @@ typedef struct bench_run {
     sim_frame_stats *st;
     float *snap; /* frames / BENCH_REF_EVERY snapshots of nv * 3 */
     float *vel;  /* the velocities (m/s) at the same frames */
+    /* --window-ref, the measured run: its positions and velocities --window-frames frames before
+     * each snapshot, where the windowed references start */
+    float *start_x, *start_v;
     int nv, nsnap, diverged_frames;
     int body_nv; /* the body's vertices (the sphere's for the drape) */
     char device[96];
@@ -65,6 +69,7 @@ static void usage(void)
         "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
         "[--frames F]\n"
         "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
+        "         [--hem M (the shirt's hem below the pelvis joint; 0: 0.12 m, at the hips)]\n"
         "         [--ref-body-verts N (the references' body model, 0 = the run's)]\n"
         "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
@@ -75,11 +80,12 @@ static void usage(void)
         "         [--retry-budget MS (those retries only within MS a frame; 0: no budget)]\n"
         "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
         "         [--ref-iterations N (default %d)] [--compare-ref M] [--window-ref]\n"
-        "--window-ref: also the error to references restarted from the run's own state at\n"
-        "              every snapshot (every %d frames; not cached)\n"
+        "         [--window-frames W (1..%d)]\n"
+        "--window-ref: also the error to references restarted from the run's own state\n"
+        "              W frames (default %d) before every snapshot (every %d frames; not cached)\n"
         "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
         "                 in all and per motion (each computed once into the cache)\n",
-        BENCH_BODY_VERTS, BENCH_REF_ITERATIONS, BENCH_REF_EVERY);
+        BENCH_BODY_VERTS, BENCH_REF_ITERATIONS, BENCH_REF_EVERY, BENCH_REF_EVERY, BENCH_REF_EVERY);
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -91,6 +97,7 @@ static int parse(int argc, char **argv, bench_opts *o)
                       .iterations = 25,
                       .frames = 0,
                       .group = 10,
+                      .window_frames = BENCH_REF_EVERY,
                       .cache_dir = "."};
     o->desc = sim_default_desc();
     for (int i = 1; i < argc; i++) {
@@ -118,6 +125,10 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->csv = v;
         else if (strcmp(a, "--ref-iterations") == 0)
             o->ref_iterations = atoi(v);
+        else if (strcmp(a, "--hem") == 0)
+            o->hem_m = (float)atof(v);
+        else if (strcmp(a, "--window-frames") == 0)
+            o->window_frames = atoi(v);
         else if (strcmp(a, "--compare-ref") == 0)
             o->compare_ref = atoi(v);
         else if (strcmp(a, "--cache-dir") == 0)
@@ -157,7 +168,8 @@ static int parse(int argc, char **argv, bench_opts *o)
         i += used;
     }
     int body = strcmp(o->scene, "body") == 0;
-    if (!body && strcmp(o->scene, "drape") != 0) {
+    if ((!body && strcmp(o->scene, "drape") != 0) || o->window_frames < 1 ||
+        o->window_frames > BENCH_REF_EVERY) {
         usage();
         return -1;
     }
@@ -193,7 +205,7 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
     int nv, nt;
     sim_reject why = {0};
     sim_scene_eval(*sc, 0.0, &xyz, &nv, &tris, &nt, &joints);
-    if (sim_garment_shirt(xyz, nv, tris, nt, joints, o->verts, 0.0f, g, &why) < 0) {
+    if (sim_garment_shirt(xyz, nv, tris, nt, joints, o->verts, 0.0f, o->hem_m, g, &why) < 0) {
         fprintf(stderr, "tryon-bench-sim: shirt: %s: %s\n", sim_error_name(why.code), why.detail);
         return -1;
     }
@@ -202,9 +214,10 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
 
 /* The scene run with desc, the garment made on the body of --body-verts, the body frames from
  * one of body_verts (the references' body detail: --ref-body-verts); snapshots (positions and
- * velocities) every BENCH_REF_EVERY frames. restart: after each snapshot the state becomes
- * restart's at that frame (the windowed reference: each window of BENCH_REF_EVERY frames starts
- * from the measured run's state). */
+ * velocities) every BENCH_REF_EVERY frames. With --window-ref the measured run (restart NULL)
+ * also keeps its state --window-frames frames before each snapshot, and a windowed reference
+ * (restart: the measured run) takes that state there, so each of its snapshots is where it goes
+ * in those frames from where the run was. */
 static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const bench_run *restart,
                bench_run *out)
 {
@@ -255,7 +268,15 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
     out->vel = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->vel);
     out->ms = calloc((size_t)o->frames, sizeof *out->ms);
     out->st = calloc((size_t)o->frames, sizeof *out->st);
-    int r = (out->snap && out->vel && out->ms && out->st) ? 0 : -1;
+    int keep_starts = o->window_ref && !restart;
+    if (keep_starts) {
+        out->start_x = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->start_x);
+        out->start_v = calloc((size_t)out->nsnap * out->nv * 3 + 1, sizeof *out->start_v);
+    }
+    int r = (out->snap && out->vel && out->ms && out->st &&
+             (!keep_starts || (out->start_x && out->start_v)))
+                ? 0
+                : -1;
     if (restart && (restart->nv != out->nv || restart->nsnap != out->nsnap))
         r = -1;
     for (int f = 0; f < o->frames && r == 0; f++) {
@@ -277,7 +298,17 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
             size_t at = (size_t)((f + 1) / BENCH_REF_EVERY - 1) * out->nv * 3;
             sim_copy_positions(s, out->snap + at);
             sim_copy_velocities(s, out->vel + at);
-            if (restart && sim_set_state(s, restart->snap + at, restart->vel + at, &why) < 0) {
+        }
+        /* a window's start: window_frames before snapshot j (the first window of 10 frames
+         * starts from the garment as made, which every run shares) */
+        int j = (f + 1 + o->window_frames) / BENCH_REF_EVERY - 1;
+        if ((keep_starts || restart) && (f + 1 + o->window_frames) % BENCH_REF_EVERY == 0 &&
+            j < out->nsnap) {
+            size_t at = (size_t)j * out->nv * 3;
+            if (keep_starts) {
+                sim_copy_positions(s, out->start_x + at);
+                sim_copy_velocities(s, out->start_v + at);
+            } else if (sim_set_state(s, restart->start_x + at, restart->start_v + at, &why) < 0) {
                 fprintf(stderr, "tryon-bench-sim: restart at frame %d: %s\n", f, why.detail);
                 r = -1;
             }
@@ -291,6 +322,8 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
 static void run_free(bench_run *r)
 {
     free(r->vel);
+    free(r->start_x);
+    free(r->start_v);
     free(r->ms);
     free(r->st);
     free(r->snap);
@@ -765,14 +798,15 @@ int main(int argc, char **argv)
            "\"strain_retried_frames\":%d,\"cloth_error_window_mm\":%.2f,"
            "\"window_uncertainty_mm\":%.2f,\"cloth_shape_error_mm\":%.2f,"
            "\"shape_window_mm\":%.2f,\"shape_window_uncertainty_mm\":%.2f,\"body_verts\":%d,"
-           "\"ref_body_verts\":%d,\"cpu_steal_pct\":%.1f}\n",
+           "\"ref_body_verts\":%d,\"window_frames\":%d,\"cpu_steal_pct\":%.1f}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
            ms_med, ms_p95, max_strain, p99, pen, pen_mm, cloth_error_mm, recovered,
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
            follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm, shape_mm,
-           win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv, steal_pct);
+           win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv,
+           o.window_ref ? o.window_frames : -1, steal_pct);
     run_free(&r);
     return 0;
 }

@@ -10,6 +10,7 @@
 
 #define SHIRT_PI               3.14159265358979f
 #define SHIRT_DEFAULT_OFFSET_M 0.015f /* a fitted shirt stands 1.5 cm off the skin */
+#define SHIRT_DEFAULT_HEM_M    0.12f  /* the hem at the hips, 12 cm below the pelvis joint */
 #define SHIRT_MIN_VERTICES     200
 #define SHIRT_MAX_VERTICES     200000
 
@@ -35,8 +36,10 @@ static float seg_dist2(const float *p, const float *a, const float *b)
 }
 
 /* Torso vertices: nearer the pelvis-neck segment than any arm bone (with joints), or inside the
- * middle 60 % of the body's width (without). */
-static void classify(const float *xyz, int nv, const float *j, uint8_t *torso, shirt_frame *f)
+ * middle 60 % of the body's width (without). The tube's top (armpits) and hem (hem_m below the
+ * pelvis joint) into f. */
+static void classify(const float *xyz, int nv, const float *j, float hem_m, uint8_t *torso,
+                     shirt_frame *f)
 {
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < nv; i++)
@@ -52,7 +55,7 @@ static void classify(const float *xyz, int nv, const float *j, uint8_t *torso, s
             continue;
         }
         float dt = seg_dist2(p, &j[J_PELVIS * 3], &j[J_NECK * 3]);
-        /* the legs count as torso: the hem encloses the hips and the tops of the thighs */
+        /* the legs count as torso: a long hem (a tunic) encloses the tops of the thighs */
         static const int bones[][2] = {
             {J_LSHO, J_LELB}, {J_LELB, J_LWRI}, {J_RSHO, J_RELB}, {J_RELB, J_RWRI}};
         torso[i] = 1;
@@ -74,9 +77,9 @@ static void classify(const float *xyz, int nv, const float *j, uint8_t *torso, s
     f->axis[0] = n ? sx / (float)n : cx;
     f->axis[1] = n ? sz / (float)n : 0.5f * (lo[2] + hi[2]);
     if (j) {
-        /* armpits sit about 8 cm below the shoulder joints; the hem a few cm below the hips */
+        /* armpits sit about 8 cm below the shoulder joints */
         f->y_top = fminf(j[J_LSHO * 3 + 1], j[J_RSHO * 3 + 1]) - 0.25f;
-        f->y_bot = j[J_PELVIS * 3 + 1] - 0.25f;
+        f->y_bot = j[J_PELVIS * 3 + 1] - hem_m;
     } else {
         f->y_top = yhi - 0.25f * (yhi - ylo);
         f->y_bot = ylo + 0.2f * (yhi - ylo);
@@ -222,22 +225,25 @@ int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const
 }
 
 int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, int nt,
-                      const float *joints_xyz, int n_vertices, float offset_m, sim_garment *out,
-                      sim_reject *why)
+                      const float *joints_xyz, int n_vertices, float offset_m, float hem_m,
+                      sim_garment *out, sim_reject *why)
 {
     int r = sim_body_validate(body_xyz, nv, body_tris, nt, why);
     if (r < 0)
         return r;
     if (!out || n_vertices < SHIRT_MIN_VERTICES || n_vertices > SHIRT_MAX_VERTICES ||
-        !(offset_m >= 0.0f && offset_m < 0.2f))
-        return sim_reject_set(why, SIM_ERR_PARAM, "shirt: %d vertices (%d..%d), offset %g m",
-                              n_vertices, SHIRT_MIN_VERTICES, SHIRT_MAX_VERTICES, offset_m);
+        !(offset_m >= 0.0f && offset_m < 0.2f) || !(hem_m >= 0.0f && hem_m < 0.5f))
+        return sim_reject_set(
+            why, SIM_ERR_PARAM,
+            "shirt: %d vertices (%d..%d), offset %g m (0..0.2), hem %g m (0..0.5)", n_vertices,
+            SHIRT_MIN_VERTICES, SHIRT_MAX_VERTICES, offset_m, hem_m);
     offset_m = offset_m > 0.0f ? offset_m : SHIRT_DEFAULT_OFFSET_M;
+    hem_m = hem_m > 0.0f ? hem_m : SHIRT_DEFAULT_HEM_M;
     uint8_t *torso = calloc((size_t)nv, 1);
     if (!torso)
         return sim_reject_set(why, SIM_ERR_NO_MEMORY, "shirt");
     shirt_frame f;
-    classify(body_xyz, nv, joints_xyz, torso, &f);
+    classify(body_xyz, nv, joints_xyz, hem_m, torso, &f);
     /* square cells: columns around a perimeter of about 2 pi 0.15 m, rows down the height */
     float height = f.y_top - f.y_bot, perim = 2.0f * SHIRT_PI * 0.15f;
     if (!(height > 0.05f)) {

@@ -35,7 +35,8 @@ typedef struct app {
     sim_desc desc;
     const char *garment_path;
     int verts, frames_wanted, frames_done, skipped, triangles_every;
-    int every_body;      /* --queue all: simulate every body; else only the newest one */
+    float hem_m;    /* the generated shirt's hem below the pelvis joint (0: sim_garment_shirt's) */
+    int every_body; /* --queue all: simulate every body; else only the newest one */
     int backend_auto;    /* --backend auto (the default): OpenCL on a GPU, else C (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* arrived while a newer one was waiting: not simulated */
@@ -80,7 +81,7 @@ static int make_sim(app *a, const pending_body *b)
         r = sim_garment_load_obj(a->garment_path, &g, &why);
     } else {
         r = sim_garment_shirt(b->xyz, b->nv, a->body_tris, a->body_nt,
-                              b->has_joints ? b->joints : NULL, a->verts, 0.0f, &g, &why);
+                              b->has_joints ? b->joints : NULL, a->verts, 0.0f, a->hem_m, &g, &why);
     }
     if (r < 0) {
         fprintf(stderr, "tryon-sim: garment %s: %s: %s\n",
@@ -236,7 +237,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
-            "                 [--follow F] [--retry-budget MS]\n"
+            "                 [--follow F] [--retry-budget MS] [--hem M]\n"
             "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
             "          names a device), else C; opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
@@ -245,6 +246,8 @@ static int usage(void)
             "  --retry-budget MS: a frame missing the strain goals is done again with more\n"
             "          iterations only while the frame fits in MS (0, default: always)\n"
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
+            "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
+            "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
     return 2;
@@ -272,6 +275,8 @@ static int parse(app *a, int argc, char **argv)
             a->verts = atoi(v);
         else if (!strcmp(o, "--iterations"))
             a->desc.iterations = atoi(v);
+        else if (!strcmp(o, "--hem") && atof(v) >= 0.0)
+            a->hem_m = (float)atof(v);
         else if (!strcmp(o, "--follow") && atof(v) <= 1.0)
             a->desc.follow = (float)atof(v);
         else if (!strcmp(o, "--retry-budget") && atof(v) >= 0.0)

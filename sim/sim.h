@@ -150,10 +150,12 @@ int sim_garment_drape(int n_vertices, float side_m, float y_m, sim_garment *out)
 /* A shirt around a body mesh: the torso and upper arms offset outward by offset_m (0 = 0.015),
  * resting on the shoulders, resampled to about n_vertices. joints_xyz: FIT_JOINT_COUNT * 3 (the
  * bodyfit joints, used to choose the region); NULL = the region is guessed from the bounding
- * box. */
+ * box. hem_m: with joints, the hem's depth below the pelvis joint (0 = 0.12 m: at the hips, above
+ * the crotch; 0.25 m reaches over the tops of the thighs, a tunic whose straight hem the thighs
+ * stretch when they part in a stride: docs/sim.md, "The hem and the error"). */
 int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, int nt,
-                      const float *joints_xyz, int n_vertices, float offset_m, sim_garment *out,
-                      sim_reject *why);
+                      const float *joints_xyz, int n_vertices, float offset_m, float hem_m,
+                      sim_garment *out, sim_reject *why);
 void sim_garment_free(sim_garment *g); /* frees the arrays; the struct itself is the caller's */
 /* The garment's attachments moved from one body mesh to another of the same person in the same
  * pose (another resolution of the body model): each glued to the new body's triangle nearest its

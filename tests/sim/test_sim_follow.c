@@ -110,14 +110,15 @@ static void test_follow_moves_x_and_x_prev(void **state)
 }
 
 /* The turn's first 2 s (its fastest part) with a shirt of 4,000 vertices: in the world frame the
-   tube lags and twists (2.5 % max strain), fewer rows propagate the turn too quickly to show it */
+   tube lags and twists (2 % max strain, 2 frames redone), fewer rows propagate the turn too
+   quickly to show it */
 #define TURN_FRAMES      60
 #define TURN_SHIRT_VERTS 4000
 
 /* The shirt on the body scene's turn: worst max and p99 strain after the first 10 frames and
    the worst penetrating count; the last frame's positions in out (nv * 4) when out is given. */
 static void run_turn(sim_backend b, float follow, float *max_out, float *p99_out, int *pen_out,
-                     int *settle_out, float *out)
+                     int *settle_out, int *retried_out, float *out)
 {
     char err[160] = "";
     sim_scene *sc = sim_scene_body("turn", 4000, err, sizeof err);
@@ -128,8 +129,8 @@ static void run_turn(sim_backend b, float follow, float *max_out, float *p99_out
     assert_int_equal(sim_scene_eval(sc, 0.0, &xyz, &nv, &tris, &nt, &joints), 0);
     sim_garment g = {0};
     sim_reject why = {0};
-    assert_int_equal(sim_garment_shirt(xyz, nv, tris, nt, joints, TURN_SHIRT_VERTS, 0.0f, &g, &why),
-                     0);
+    assert_int_equal(
+        sim_garment_shirt(xyz, nv, tris, nt, joints, TURN_SHIRT_VERTS, 0.0f, 0.0f, &g, &why), 0);
     assert_true(g.num_attachments >= 3);
     sim_desc d = sim_default_desc();
     d.backend = b;
@@ -141,12 +142,15 @@ static void run_turn(sim_backend b, float follow, float *max_out, float *p99_out
     assert_non_null(s);
     *max_out = *p99_out = 0.0f;
     *pen_out = 0;
-    *settle_out = 0;
+    *settle_out = *retried_out = 0;
     for (int f = 0; f < TURN_FRAMES; f++) {
         assert_int_equal(sim_scene_eval(sc, f / 30.0, &xyz, &nv, &tris, &nt, &joints), 0);
         sim_frame_stats st;
         assert_int_equal(sim_step(s, xyz, nv, tris, nt, &st, &why), 0);
-        assert_int_equal(st.state, SIM_STATE_OK);
+        /* the world frame may redo a frame for its strain (the moving frame must not) */
+        assert_int_equal(
+            st.state == SIM_STATE_OK || (follow < 0.0f && st.state == SIM_STATE_RECOVERED), 1);
+        *retried_out += st.state == SIM_STATE_RECOVERED;
         if (f >= 10) {
             *max_out = fmaxf(*max_out, st.max_strain);
             *p99_out = fmaxf(*p99_out, st.p99_strain);
@@ -170,21 +174,25 @@ static void test_turn_keeps_the_strain_limit(void **state)
     int nfirst = 0;
     for (int k = 0; k < nb; k++) {
         float max_f, p99_f, max_w, p99_w;
-        int pen_f, pen_w, settle_f, settle_w;
+        int pen_f, pen_w, settle_f, settle_w, retried_f, retried_w;
         float *pos = calloc(4 * TURN_SHIRT_VERTS * 2, sizeof *pos);
-        run_turn(bs[k], 1.0f, &max_f, &p99_f, &pen_f, &settle_f, pos);
+        run_turn(bs[k], 1.0f, &max_f, &p99_f, &pen_f, &settle_f, &retried_f, pos);
         fprintf(stderr,
-                "%s: turn, follow 1: max %.2f %% p99 %.2f %%, %d inside, %d settle rounds\n",
-                simt_backend_name(bs[k]), 100.0 * max_f, 100.0 * p99_f, pen_f, settle_f);
+                "%s: turn, follow 1: max %.2f %% p99 %.2f %%, %d inside, %d settle rounds, "
+                "%d frames retried\n",
+                simt_backend_name(bs[k]), 100.0 * max_f, 100.0 * p99_f, pen_f, settle_f, retried_f);
         if (k == 0) {
-            run_turn(bs[k], -1.0f, &max_w, &p99_w, &pen_w, &settle_w, NULL);
+            run_turn(bs[k], -1.0f, &max_w, &p99_w, &pen_w, &settle_w, &retried_w, NULL);
             fprintf(stderr,
-                    "%s: turn, world frame: max %.2f %% p99 %.2f %%, %d inside, %d settle rounds\n",
-                    simt_backend_name(bs[k]), 100.0 * max_w, 100.0 * p99_w, pen_w, settle_w);
-            /* what the frame is for: the world frame needs the settle rounds, and is still
-               stretched more after them */
-            assert_true(settle_w > 0);
+                    "%s: turn, world frame: max %.2f %% p99 %.2f %%, %d inside, %d settle rounds, "
+                    "%d frames retried\n",
+                    simt_backend_name(bs[k]), 100.0 * max_w, 100.0 * p99_w, pen_w, settle_w,
+                    retried_w);
+            /* what the frame is for: the world frame needs the settle rounds (or more
+               iterations), and is still stretched more after them */
+            assert_true(settle_w > 0 || retried_w > 0);
             assert_int_equal(settle_f, 0);
+            assert_int_equal(retried_f, 0);
             assert_true(max_w > 1.5f * max_f);
             assert_int_equal(pen_w, 0);
         }

