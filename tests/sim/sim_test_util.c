@@ -108,3 +108,16 @@ float simt_max_speed(const sim *s, float frame_dt)
     }
     return mx;
 }
+
+int simt_scene_shirt(const char *motion, int body_verts, int shirt_verts, float hem_m,
+                     sim_scene **sc, sim_garment *g, int *nv, int *nt)
+{
+    char err[160] = "";
+    const float *xyz, *joints;
+    const int32_t *tris;
+    sim_reject why = {0};
+    *sc = sim_scene_body(motion, body_verts, err, sizeof err);
+    if (!*sc || sim_scene_eval(*sc, 0.0, &xyz, nv, &tris, nt, &joints) < 0)
+        return -SIM_ERR_PARAM;
+    return sim_garment_shirt(xyz, *nv, tris, *nt, joints, shirt_verts, 0.0f, hem_m, g, &why);
+}

@@ -17,4 +17,9 @@ sim_scene *simt_sphere(void);
 int simt_run(sim *s, sim_scene *sc, int frames, sim_frame_stats *last);
 int simt_all_finite(const sim *s);
 float simt_max_speed(const sim *s, float frame_dt); /* m/s from the last step */
+/* The body scene's motion (a body of body_verts) into *sc, and the shirt of shirt_verts with
+   hem_m (sim_garment_shirt) made on its frame 0 into g; that frame's vertex and triangle counts
+   into nv, nt. Returns sim_garment_shirt's result, or -SIM_ERR_PARAM without a scene. */
+int simt_scene_shirt(const char *motion, int body_verts, int shirt_verts, float hem_m,
+                     sim_scene **sc, sim_garment *g, int *nv, int *nt);
 #endif

@@ -120,17 +120,13 @@ static void test_follow_moves_x_and_x_prev(void **state)
 static void run_turn(sim_backend b, float follow, float *max_out, float *p99_out, int *pen_out,
                      int *settle_out, int *retried_out, float *out)
 {
-    char err[160] = "";
-    sim_scene *sc = sim_scene_body("turn", 4000, err, sizeof err);
-    assert_non_null(sc);
+    sim_scene *sc = NULL;
+    sim_garment g = {0};
+    sim_reject why = {0};
     const float *xyz, *joints;
     const int32_t *tris;
     int nv, nt;
-    assert_int_equal(sim_scene_eval(sc, 0.0, &xyz, &nv, &tris, &nt, &joints), 0);
-    sim_garment g = {0};
-    sim_reject why = {0};
-    assert_int_equal(
-        sim_garment_shirt(xyz, nv, tris, nt, joints, TURN_SHIRT_VERTS, 0.0f, 0.0f, &g, &why), 0);
+    assert_int_equal(simt_scene_shirt("turn", 4000, TURN_SHIRT_VERTS, 0.0f, &sc, &g, &nv, &nt), 0);
     assert_true(g.num_attachments >= 3);
     sim_desc d = sim_default_desc();
     d.backend = b;

@@ -67,16 +67,10 @@ static void test_sim_injected_nan_is_recovered(void **state)
 static sim *walk_sim_desc(sim_backend b, int iterations, float retry, float budget_ms,
                           sim_scene **sc)
 {
-    char err[160] = "";
-    *sc = sim_scene_body("walk", 4000, err, sizeof err);
-    assert_non_null(*sc);
-    const float *xyz, *joints;
-    const int32_t *tris;
-    int nv, nt;
-    assert_int_equal(sim_scene_eval(*sc, 0.0, &xyz, &nv, &tris, &nt, &joints), 0);
     sim_garment g = {0};
     sim_reject why = {0};
-    assert_int_equal(sim_garment_shirt(xyz, nv, tris, nt, joints, 1000, 0.0f, 0.0f, &g, &why), 0);
+    int nv, nt;
+    assert_int_equal(simt_scene_shirt("walk", 4000, 1000, 0.0f, sc, &g, &nv, &nt), 0);
     sim_desc d = sim_default_desc();
     d.backend = b;
     d.iterations = iterations;

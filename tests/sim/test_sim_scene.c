@@ -14,6 +14,7 @@
 
 #include "scene.h"
 #include "sim.h"
+#include "sim_test_util.h"
 
 /* Largest distance any body vertex moves between frames f - 1 and f, metres. */
 static float frame_jump(sim_scene *sc, float *prev, int f)
@@ -191,16 +192,11 @@ static void test_rebind_to_other_detail(void **state)
 /* The shirt's lowest row, metres (y), made with hem_m on the body "still" at frame 0. */
 static float shirt_hem_y(float hem_m, int *code)
 {
-    char err[160] = "";
-    sim_scene *sc = sim_scene_body("still", 6000, err, sizeof err);
-    assert_non_null(sc);
-    const float *xyz, *joints;
-    const int32_t *tris;
-    int nv, nt;
-    assert_int_equal(sim_scene_eval(sc, 0.0, &xyz, &nv, &tris, &nt, &joints), 0);
+    sim_scene *sc = NULL;
     sim_garment g = {0};
-    sim_reject why = {0};
-    *code = -sim_garment_shirt(xyz, nv, tris, nt, joints, 2000, 0.0f, hem_m, &g, &why);
+    int nv, nt;
+    *code = -simt_scene_shirt("still", 6000, 2000, hem_m, &sc, &g, &nv, &nt);
+    assert_non_null(sc);
     float lo = INFINITY;
     for (int i = 0; *code == 0 && i < g.num_vertices; i++)
         lo = fminf(lo, g.xyz[i * 3 + 1]);
