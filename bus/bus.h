@@ -10,16 +10,18 @@
 
 #include "tryon_body_t.h"
 #include "tryon_cloth_t.h"
+#include "tryon_control_t.h"
 #include "tryon_depth_frame_t.h"
 #include "tryon_timing_t.h"
 
 /* Channel names. TRYON_CHANNEL_PREFIX, when set, is put in front of every one so that several
  * pipelines (or tests run with ctest -j) can share one LCM network without cross-talk. */
-#define BUS_CHANNEL_DEPTH  "DEPTH"
-#define BUS_CHANNEL_BODY   "BODY"
-#define BUS_CHANNEL_CLOTH  "CLOTH"
-#define BUS_CHANNEL_TIMING "TIMING"
-#define BUS_CHANNEL_MAX    96
+#define BUS_CHANNEL_DEPTH   "DEPTH"
+#define BUS_CHANNEL_BODY    "BODY"
+#define BUS_CHANNEL_CLOTH   "CLOTH"
+#define BUS_CHANNEL_TIMING  "TIMING"
+#define BUS_CHANNEL_CONTROL "CONTROL"
+#define BUS_CHANNEL_MAX     96
 /* Writes prefix + base into out. Returns 0, or -1 if it does not fit. */
 int bus_channel(const char *base, char *out, size_t out_size);
 
@@ -76,7 +78,14 @@ typedef struct bus_reject {
 #define BUS_MAX_STRING     256
 #define BUS_MAX_COORD_M    1000.0f /* no tryon geometry is a kilometre from the origin */
 
-typedef enum bus_type { BUS_DEPTH_FRAME, BUS_BODY, BUS_CLOTH, BUS_TIMING, BUS_TYPE_COUNT } bus_type;
+typedef enum bus_type {
+    BUS_DEPTH_FRAME,
+    BUS_BODY,
+    BUS_CLOTH,
+    BUS_TIMING,
+    BUS_CONTROL,
+    BUS_TYPE_COUNT
+} bus_type;
 const char *bus_type_name(bus_type t);
 size_t bus_type_size(bus_type t); /* sizeof the decoded struct */
 

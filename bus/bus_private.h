@@ -11,7 +11,8 @@
     X(BUS_DEPTH_FRAME, tryon_depth_frame_t)                                                        \
     X(BUS_BODY, tryon_body_t)                                                                      \
     X(BUS_CLOTH, tryon_cloth_t)                                                                    \
-    X(BUS_TIMING, tryon_timing_t)
+    X(BUS_TIMING, tryon_timing_t)                                                                  \
+    X(BUS_CONTROL, tryon_control_t)
 
 /* Walk the encoded bytes of type t without allocating: every count must be sane and every
  * array must fit in the buffer before lcm's generated decoder (which allocates whatever a count

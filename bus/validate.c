@@ -155,6 +155,25 @@ static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)
     return BUS_OK;
 }
 
+static bus_error validate_control(const tryon_control_t *m, bus_reject *why)
+{
+    bus_error e = check_string(m->garment, "garment", why);
+    if (e == BUS_OK)
+        e = check_string(m->fabric, "fabric", why);
+    if (e != BUS_OK)
+        return e;
+    if (m->garment[0] == 0)
+        return bus_reject_set(why, BUS_ERR_STRING, "garment is empty");
+    if (m->size < TRYON_CONTROL_T_SIZE_S || m->size > TRYON_CONTROL_T_SIZE_L)
+        return bus_reject_set(why, BUS_ERR_RANGE, "size %d (S %d, M %d, L %d)", (int)m->size,
+                              TRYON_CONTROL_T_SIZE_S, TRYON_CONTROL_T_SIZE_M,
+                              TRYON_CONTROL_T_SIZE_L);
+    if (m->utime < 0 || m->seq < 0)
+        return bus_reject_set(why, BUS_ERR_RANGE, "utime %lld, seq %d (both >= 0)",
+                              (long long)m->utime, (int)m->seq);
+    return BUS_OK;
+}
+
 bus_error bus_validate(bus_type t, const void *msg, bus_reject *why)
 {
     if (why)
@@ -168,6 +187,8 @@ bus_error bus_validate(bus_type t, const void *msg, bus_reject *why)
         return validate_cloth(msg, why);
     case BUS_TIMING:
         return validate_timing(msg, why);
+    case BUS_CONTROL:
+        return validate_control(msg, why);
     default:
         return bus_reject_set(why, BUS_ERR_TYPE, "type %d", (int)t);
     }

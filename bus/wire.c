@@ -79,6 +79,11 @@ static const wire_field wire_tryon_timing_t[] = {
     {W_END, 0, 0, NULL},
 };
 
+static const wire_field wire_tryon_control_t[] = {
+    {W_I64, 0, 0, "utime"}, {W_I32, 0, 0, "seq"},    {W_STR, 0, 0, "garment"},
+    {W_I8, 0, 0, "size"},   {W_STR, 0, 0, "fabric"}, {W_END, 0, 0, NULL},
+};
+
 /* clang-format on */
 
 static int32_t read_i32(const uint8_t *p)
@@ -189,6 +194,7 @@ static bus_error wire_walk(const wire_field *f, const uint8_t *buf, size_t len, 
 #define tryon_body_t_get_hash_any        __tryon_body_t_get_hash
 #define tryon_cloth_t_get_hash_any       __tryon_cloth_t_get_hash
 #define tryon_timing_t_get_hash_any      __tryon_timing_t_get_hash
+#define tryon_control_t_get_hash_any     __tryon_control_t_get_hash
 BUS_TYPE_LIST(BUS_WRAP)
 
 typedef struct bus_type_info {

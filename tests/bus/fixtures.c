@@ -127,6 +127,17 @@ void fx_timing_make(fx_timing *f, int seed)
     };
 }
 
+void fx_control_make(fx_control *f, int seed)
+{
+    f->msg = (tryon_control_t){
+        .utime = 7000 + seed,
+        .seq = seed,
+        .garment = "shirt",
+        .size = TRYON_CONTROL_T_SIZE_M,
+        .fabric = "cotton",
+    };
+}
+
 #define SAME(field) (a->field == b->field)
 #define SAME_ARRAY(field, n)                                                                       \
     ((n) == 0 || memcmp(a->field, b->field, (size_t)(n) * sizeof *a->field) == 0)
@@ -171,6 +182,12 @@ static int timing_equal(const tryon_timing_t *a, const tryon_timing_t *b)
     return 1;
 }
 
+static int control_equal(const tryon_control_t *a, const tryon_control_t *b)
+{
+    return SAME(utime) && SAME(seq) && strcmp(a->garment, b->garment) == 0 && SAME(size) &&
+           strcmp(a->fabric, b->fabric) == 0;
+}
+
 int fx_equal(bus_type t, const void *a, const void *b)
 {
     switch (t) {
@@ -182,6 +199,8 @@ int fx_equal(bus_type t, const void *a, const void *b)
         return cloth_equal(a, b);
     case BUS_TIMING:
         return timing_equal(a, b);
+    case BUS_CONTROL:
+        return control_equal(a, b);
     default:
         return 0;
     }
@@ -203,6 +222,9 @@ int fx_encode(bus_type t, const void *msg, uint8_t **out)
     case BUS_TIMING:
         n = tryon_timing_t_encoded_size(msg);
         break;
+    case BUS_CONTROL:
+        n = tryon_control_t_encoded_size(msg);
+        break;
     default:
         return -1;
     }
@@ -220,6 +242,9 @@ int fx_encode(bus_type t, const void *msg, uint8_t **out)
         break;
     case BUS_TIMING:
         r = tryon_timing_t_encode(*out, 0, n, msg);
+        break;
+    case BUS_CONTROL:
+        r = tryon_control_t_encode(*out, 0, n, msg);
         break;
     default:
         break;

@@ -36,6 +36,11 @@ typedef struct fx_timing {
 } fx_timing;
 void fx_timing_make(fx_timing *f, int seed);
 
+typedef struct fx_control {
+    tryon_control_t msg;
+} fx_control;
+void fx_control_make(fx_control *f, int seed); /* garment "shirt", size M, fabric "cotton" */
+
 /* 1 if the two decoded messages of type t are equal field by field. */
 int fx_equal(bus_type t, const void *a, const void *b);
 

@@ -61,13 +61,15 @@ static void test_logger_records_and_logplayer_replays_every_type(void **state)
     fx_body b;
     fx_cloth c;
     fx_timing t;
+    fx_control k;
+    fx_control_make(&k, 21);
     fx_depth_make(&d, 640, 480, 21);
     fx_body_make(&b, 8000, 15000, 21);
     fx_cloth_make(&c, 7000, 13000, 21);
     fx_timing_make(&t, 21);
-    replay_state st = {.sent = {&d.msg, &b.msg, &c.msg, &t.msg}};
+    replay_state st = {.sent = {&d.msg, &b.msg, &c.msg, &t.msg, &k.msg}};
     const char *bases[BUS_TYPE_COUNT] = {BUS_CHANNEL_DEPTH, BUS_CHANNEL_BODY, BUS_CHANNEL_CLOTH,
-                                         BUS_CHANNEL_TIMING};
+                                         BUS_CHANNEL_TIMING, BUS_CHANNEL_CONTROL};
     char channels[BUS_TYPE_COUNT][BUS_CHANNEL_MAX], warm[BUS_CHANNEL_MAX], url_arg[200], regex[80];
     for (int i = 0; i < BUS_TYPE_COUNT; i++)
         bus_channel(bases[i], channels[i], sizeof channels[i]);
@@ -94,7 +96,8 @@ static void test_logger_records_and_logplayer_replays_every_type(void **state)
        the warm-ups only add). Counting the vertices alone (as this test once did) let a slow run
        stop the logger after the depth frame and the body, with the cloth not yet written. */
     long want = (long)tryon_depth_frame_t_encoded_size(&d.msg) + tryon_body_t_encoded_size(&b.msg) +
-                tryon_cloth_t_encoded_size(&c.msg) + tryon_timing_t_encoded_size(&t.msg);
+                tryon_cloth_t_encoded_size(&c.msg) + tryon_timing_t_encoded_size(&t.msg) +
+                tryon_control_t_encoded_size(&k.msg);
     for (int i = 0; i < 200 && file_size(log) < want; i++)
         sleep_ms(50);
     assert_int_equal(ts_stop(logger, SIGINT, 5000), 0);

@@ -48,11 +48,13 @@ static void test_valid_messages_of_every_type_decode(void **state)
     fx_body b;
     fx_cloth c;
     fx_timing t;
+    fx_control k;
     fx_depth_make(&d, 64, 48, 1);
     fx_body_make(&b, BODY_NV, BODY_NT, 1);
     fx_cloth_make(&c, 20, 10, 1);
     fx_timing_make(&t, 1);
-    const void *msgs[BUS_TYPE_COUNT] = {&d.msg, &b.msg, &c.msg, &t.msg};
+    fx_control_make(&k, 1);
+    const void *msgs[BUS_TYPE_COUNT] = {&d.msg, &b.msg, &c.msg, &t.msg, &k.msg};
     for (int ty = 0; ty < BUS_TYPE_COUNT; ty++) {
         uint8_t *buf;
         int n = fx_encode((bus_type)ty, msgs[ty], &buf);
@@ -62,6 +64,7 @@ static void test_valid_messages_of_every_type_decode(void **state)
             tryon_body_t b;
             tryon_cloth_t c;
             tryon_timing_t t;
+            tryon_control_t k;
         } out;
         bus_reject why;
         assert_int_equal(bus_decode((bus_type)ty, buf, (size_t)n, &out, &why), BUS_OK);
