@@ -48,6 +48,8 @@ typedef struct app {
     int body_nt;
     float *xyz; /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
+    sim_outfit outfit, wanted, before; /* worn, asked for over CONTROL (sim/outfit.c), last */
+    int want_switch, controls_refused;
 } app;
 
 /* --backend auto: the OpenCL backend where the device it would open is a GPU or TRYON_CL_DEVICE
@@ -76,19 +78,14 @@ static int make_sim(app *a, const pending_body *b)
 {
     sim_garment g = {0};
     sim_reject why = {0};
-    int r;
-    if (a->garment_path) {
-        r = sim_garment_load_obj(a->garment_path, &g, &why);
-    } else {
-        r = sim_garment_shirt(b->xyz, b->nv, a->body_tris, a->body_nt,
-                              b->has_joints ? b->joints : NULL, a->verts, 0.0f, a->hem_m, &g, &why);
-    }
+    int r = sim_outfit_make(&a->outfit, b->xyz, b->nv, a->body_tris, a->body_nt,
+                            b->has_joints ? b->joints : NULL, a->verts, &g, &why);
     if (r < 0) {
-        fprintf(stderr, "tryon-sim: garment %s: %s: %s\n",
-                a->garment_path ? a->garment_path : "(generated)", sim_error_name(why.code),
-                why.detail);
+        fprintf(stderr, "tryon-sim: garment %s: %s: %s\n", a->outfit.garment,
+                sim_error_name(why.code), why.detail);
         return -1;
     }
+    a->desc.fabric = a->outfit.fabric;
     if (a->backend_auto)
         auto_backend(a);
     a->sim = sim_create(&a->desc, &g, &why);
@@ -206,13 +203,59 @@ static void on_body(const char *channel, const void *m, void *user)
     p->have = 1;
 }
 
+/* CONTROL: the garment to wear next. It is made on the next body; the pipeline never stops. */
+static void on_control(const char *channel, const void *m, void *user)
+{
+    (void)channel;
+    app *a = user;
+    const tryon_control_t *c = m;
+    sim_outfit o;
+    sim_reject why = {0};
+    if (sim_outfit_resolve(c->garment, c->size, c->fabric, &o, &why) < 0) {
+        a->controls_refused++;
+        fprintf(stderr, "tryon-sim: CONTROL %d refused: %s; still wearing %s\n", c->seq, why.detail,
+                a->outfit.id);
+        return;
+    }
+    if (a->outfit.hem_m != o.hem_m && !o.is_file && !strcmp(o.garment, a->outfit.garment))
+        o.hem_m = a->outfit.hem_m; /* --hem stays with its garment */
+    if (sim_outfit_same(&o, &a->outfit))
+        return;
+    a->wanted = o;
+    a->want_switch = 1;
+}
+
+/* The requested garment replaces the worn one: made around the next body, as at the start. */
+static void switch_garment(app *a)
+{
+    fprintf(stderr, "tryon-sim: CONTROL: %s replaces %s\n", a->wanted.id, a->outfit.id);
+    a->before = a->outfit;
+    a->outfit = a->wanted;
+    a->want_switch = 0;
+    sim_destroy(a->sim);
+    a->sim = NULL;
+    free(a->xyz);
+    a->xyz = NULL;
+}
+
+/* A requested garment that cannot be made (an unreadable file): the one worn before stays. */
+static int fall_back(app *a, const pending_body *b)
+{
+    if (a->frames_done == 0 || sim_outfit_same(&a->outfit, &a->before))
+        return -1;
+    a->controls_refused++;
+    fprintf(stderr, "tryon-sim: %s cannot be made; back to %s\n", a->outfit.id, a->before.id);
+    a->outfit = a->before;
+    return make_sim(a, b);
+}
+
 static void step_body(app *a)
 {
     pending_body *b = &a->next;
     b->have = 0;
     bus_timing t; /* work starts now: the garment is made on the first body */
     bus_timing_begin(&t, "sim", b->seq, b->utime_capture, b->received);
-    if (!a->sim && make_sim(a, b) < 0) {
+    if (!a->sim && make_sim(a, b) < 0 && fall_back(a, b) < 0) {
         stop_requested = 1;
         return;
     }
@@ -248,6 +291,8 @@ static int usage(void)
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
+            "  CONTROL messages switch the garment (shirt, tunic, FILE.obj), size and fabric\n"
+            "          on the next body (docs/mirror.md)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
     return 2;
@@ -289,6 +334,14 @@ static int parse(app *a, int argc, char **argv)
             return -1;
         i++;
     }
+    sim_reject why;
+    if (sim_outfit_resolve(a->garment_path ? a->garment_path : "shirt", SIM_SIZE_M, "", &a->outfit,
+                           &why) < 0) {
+        fprintf(stderr, "tryon-sim: %s\n", why.detail);
+        return -1;
+    }
+    if (a->hem_m > 0.0f)
+        a->outfit.hem_m = a->hem_m;
     return 0;
 }
 
@@ -306,7 +359,10 @@ int main(int argc, char **argv)
     bus_channel(BUS_CHANNEL_BODY, channel_body, sizeof channel_body);
     bus_channel(BUS_CHANNEL_CLOTH, a.channel_cloth, sizeof a.channel_cloth);
     bus_sub *sub = bus_subscribe(a.lcm, channel_body, BUS_BODY, on_body, &a);
-    if (!sub) {
+    char channel_control[BUS_CHANNEL_MAX];
+    bus_channel(BUS_CHANNEL_CONTROL, channel_control, sizeof channel_control);
+    bus_sub *control_sub = bus_subscribe(a.lcm, channel_control, BUS_CONTROL, on_control, &a);
+    if (!sub || !control_sub) {
         fprintf(stderr, "tryon-sim: cannot subscribe to %s\n", channel_body);
         lcm_destroy(a.lcm);
         return 1;
@@ -320,6 +376,8 @@ int main(int argc, char **argv)
         int r = lcm_handle_timeout(a.lcm, a.next.have ? 0 : 100);
         if (r > 0 && !a.every_body)
             continue;
+        if (a.want_switch)
+            switch_garment(&a);
         if (a.next.have)
             step_body(&a);
         if (a.frames_wanted > 0 && a.bodies_received >= a.frames_wanted && !a.next.have)
@@ -331,6 +389,10 @@ int main(int argc, char **argv)
             "BODY messages dropped\n",
             a.frames_done, a.superseded, a.skipped, (unsigned long long)bs->rejected);
     int failed = a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim;
+    fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
+            (unsigned long long)bus_sub_stats(control_sub)->accepted,
+            (unsigned long long)bus_sub_stats(control_sub)->rejected, a.controls_refused);
+    bus_unsubscribe(a.lcm, control_sub);
     bus_unsubscribe(a.lcm, sub);
     lcm_destroy(a.lcm);
     sim_destroy(a.sim);

@@ -207,6 +207,33 @@ int sim_set_positions(sim *s, const float *xyz, sim_reject *why);
  * keep their places in both. */
 int sim_set_state(sim *s, const float *xyz, const float *vel, sim_reject *why);
 
+/* What a CONTROL request asks the sim to wear (sim/outfit.c, docs/mirror.md): a generated
+ * garment by name ("shirt": hem at the hips; "tunic": hem over the thighs) or a garment file
+ * (a name ending in ".obj"); a size S/M/L (the shirt's ease over the body; a file garment scaled
+ * around its vertical axis); a fabric preset by name ("" = cotton). */
+typedef enum sim_size { SIM_SIZE_S = 0, SIM_SIZE_M = 1, SIM_SIZE_L = 2 } sim_size;
+typedef struct sim_outfit {
+    char garment[256]; /* as requested */
+    int is_file;
+    sim_size size;
+    float offset_m; /* generated garments: ease over the body */
+    float hem_m;    /* generated garments: hem below the pelvis joint */
+    float scale;    /* file garments: horizontal scale */
+    char fabric_name[32];
+    sim_fabric fabric;
+    char id[96]; /* for CLOTH's garment_id: "shirt M cotton" */
+} sim_outfit;
+const char *sim_size_name(sim_size s); /* "S", "M", "L" */
+/* Resolves a request; refuses (-SIM_ERR_PARAM, why names the field) an unknown garment name,
+ * size or fabric. A file is not opened here: sim_outfit_make reads it. */
+int sim_outfit_resolve(const char *garment, int size, const char *fabric, sim_outfit *out,
+                       sim_reject *why);
+/* The outfit's garment made around this body (sim_garment_shirt's arguments). */
+int sim_outfit_make(const sim_outfit *o, const float *body_xyz, int nv, const int32_t *body_tris,
+                    int nt, const float *joints_xyz, int n_vertices, sim_garment *out,
+                    sim_reject *why);
+int sim_outfit_same(const sim_outfit *a, const sim_outfit *b); /* 1 = same garment, size, fabric */
+
 /* Test hook: overwrite one vertex (to inject NaN or a far jump). */
 void sim_debug_set_vertex(sim *s, int i, float x, float y, float z);
 
