@@ -1,0 +1,332 @@
+/* tryon-mirror's state: messages in, frames out. Each CLOTH is drawn over the DEPTH frame it
+ * derives from (same utime_capture, from the ring); the frame's cost is reported on TIMING as
+ * stage "mirror", so tryon-profile measures capture -> garment on screen. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <GLES3/gl3.h>
+
+#include "mirror_app.h"
+
+/* Depth frames alone are drawn (in a window) when no garment has come for this long: the person
+ * is shown before the sim's first cloth, or after it stops. */
+#define MIRROR_CLOTH_STALE_US 500000
+
+static int hold(mirror_held *h, const float *xyz, int ncoords, const int32_t *tris, int nidx,
+                int32_t topology)
+{
+    int nv = ncoords / 3;
+    if (nidx == 0 && (topology != h->topology || !h->tris))
+        return -1; /* triangles not seen yet for this topology */
+    if (nv > h->v_cap) {
+        float *p = realloc(h->xyz, (size_t)ncoords * sizeof *p);
+        if (!p)
+            return -1;
+        h->xyz = p;
+        h->v_cap = nv;
+    }
+    memcpy(h->xyz, xyz, (size_t)ncoords * sizeof *xyz);
+    h->nv = nv;
+    if (nidx > 0) {
+        if (nidx / 3 > h->t_cap) {
+            int32_t *t = realloc(h->tris, (size_t)nidx * sizeof *t);
+            if (!t)
+                return -1;
+            h->tris = t;
+            h->t_cap = nidx / 3;
+        }
+        memcpy(h->tris, tris, (size_t)nidx * sizeof *tris);
+        h->nt = nidx / 3;
+        h->topology = topology;
+    }
+    for (int i = 0; i < h->nt * 3; i++) /* old triangles, new vertex count: not drawable */
+        if (h->tris[i] >= nv)
+            return -1;
+    return 0;
+}
+
+static void on_depth(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    mirror_app *a = user;
+    const tryon_depth_frame_t *f = m;
+    mirror_depth d = {.width = f->width,
+                      .height = f->height,
+                      .fx = f->fx,
+                      .fy = f->fy,
+                      .cx = f->cx,
+                      .cy = f->cy,
+                      .metres_per_unit = f->metres_per_unit,
+                      .data = (const uint16_t *)f->data,
+                      .utime_capture = f->utime_capture};
+    memcpy(d.camera_to_world, f->camera_to_world, sizeof d.camera_to_world);
+    if (mirror_ring_push(a->ring, &d) == 0)
+        a->depth_new = 1;
+}
+
+static void on_cloth(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    mirror_app *a = user;
+    const tryon_cloth_t *c = m;
+    if (strcmp(c->garment_id, a->garment_id) != 0) { /* a new garment: its own rest lengths */
+        snprintf(a->garment_id, sizeof a->garment_id, "%s", c->garment_id);
+        mirror_strain_reset(a->strain);
+    }
+    if (hold(&a->cloth, c->vertices, c->num_vertex_coords, c->triangles, c->num_triangle_indices,
+             c->topology_id) < 0) {
+        a->cloth_skipped++;
+        return;
+    }
+    a->cloth.utime_capture = c->utime_capture;
+    a->cloth.seq = c->seq;
+    a->cloth.received_us = bus_now_wall_us();
+    a->last_cloth_us = bus_now_mono_us();
+    a->cloth_new = a->have_cloth = 1;
+}
+
+static void on_body(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    mirror_app *a = user;
+    const tryon_body_t *b = m;
+    hold(&a->body, b->vertices, b->num_vertex_coords, b->triangles, b->num_triangle_indices,
+         b->topology_id);
+}
+
+static void on_timing(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    mirror_app *a = user;
+    const tryon_timing_t *t = m;
+    stage_latency *s = NULL;
+    for (int i = 0; i < a->num_stages && !s; i++)
+        if (!strcmp(a->stages[i].stage, t->stage))
+            s = &a->stages[i];
+    if (!s && a->num_stages < MIRROR_APP_STAGES) {
+        s = &a->stages[a->num_stages++];
+        snprintf(s->stage, sizeof s->stage, "%s", t->stage);
+        s->latency_ms = (double)(t->utime_finished - t->utime_capture) / 1000.0;
+        s->work_ms = (double)(t->utime_finished - t->utime_started) / 1000.0;
+    }
+    if (!s)
+        return;
+    /* smoothed over about ten frames: readable, and still follows a change within a second */
+    s->latency_ms +=
+        0.1 * ((double)(t->utime_finished - t->utime_capture) / 1000.0 - s->latency_ms);
+    s->work_ms += 0.1 * ((double)(t->utime_finished - t->utime_started) / 1000.0 - s->work_ms);
+}
+
+static int open_output(mirror_app *a)
+{
+    char err[512];
+    if (a->headless) {
+        a->gl = mirror_gl_headless(err, sizeof err);
+    } else {
+        a->window = mirror_window_create(a->width, a->height, a->kiosk, err, sizeof err);
+    }
+    if (!a->gl && !a->window) {
+        fprintf(stderr, "tryon-mirror: %s\n", err);
+        return -1;
+    }
+    a->renderer = mirror_renderer_create(a->width, a->height, err, sizeof err);
+    if (!a->renderer) {
+        fprintf(stderr, "tryon-mirror: renderer: %s\n", err);
+        return -1;
+    }
+    a->rgb = malloc((size_t)a->width * a->height * 3);
+    if (!a->rgb)
+        return -1;
+    if (a->video_path) {
+        a->video = mirror_video_open(a->video_path, a->width, a->height, 30, err, sizeof err);
+        if (!a->video) {
+            fprintf(stderr, "tryon-mirror: --video %s: %s\n", a->video_path, err);
+            return -1;
+        }
+    }
+    fprintf(stderr, "tryon-mirror: %dx%d %s on %s\n", a->width, a->height,
+            a->headless ? "headless"
+            : a->kiosk  ? "kiosk"
+                        : "window",
+            (const char *)glGetString(GL_RENDERER));
+    return 0;
+}
+
+int mirror_app_open(mirror_app *a)
+{
+    char err[512], ch[4][BUS_CHANNEL_MAX];
+    a->ring = mirror_ring_create();
+    a->strain = mirror_strain_create();
+    if (!a->ring || !a->strain)
+        return -1;
+    a->lcm = bus_open(NULL, err, sizeof err);
+    if (!a->lcm) {
+        fprintf(stderr, "tryon-mirror: %s\n", err);
+        return -1;
+    }
+    const char *base[4] = {BUS_CHANNEL_DEPTH, BUS_CHANNEL_CLOTH, BUS_CHANNEL_BODY,
+                           BUS_CHANNEL_TIMING};
+    const bus_type type[4] = {BUS_DEPTH_FRAME, BUS_CLOTH, BUS_BODY, BUS_TIMING};
+    bus_handler fn[4] = {on_depth, on_cloth, on_body, on_timing};
+    for (int i = 0; i < 4; i++) {
+        bus_channel(base[i], ch[i], sizeof ch[i]);
+        a->subs[i] = bus_subscribe(a->lcm, ch[i], type[i], fn[i], a);
+        if (!a->subs[i]) {
+            fprintf(stderr, "tryon-mirror: cannot subscribe to %s\n", ch[i]);
+            return -1;
+        }
+    }
+    bus_channel(BUS_CHANNEL_CONTROL, a->ch_control, sizeof a->ch_control);
+    if (open_output(a) < 0)
+        return -1;
+    fprintf(stderr, "tryon-mirror: listening for %s and %s on %s\n", ch[0], ch[1],
+            bus_default_url());
+    return 0;
+}
+
+int mirror_app_due(const mirror_app *a)
+{
+    if (a->cloth_new)
+        return 1;
+    /* a window shows the person alone while no garment comes; files get garment frames only */
+    return a->window && a->depth_new &&
+           (!a->have_cloth || bus_now_mono_us() - a->last_cloth_us > MIRROR_CLOTH_STALE_US);
+}
+
+static void overlay_text(const mirror_app *a, char *out, size_t n)
+{
+    size_t k = (size_t)snprintf(out, n, "FPS %.1f  FRAME %d\n", a->fps, a->frames_drawn);
+    for (int i = 0; i < a->num_stages && k < n; i++)
+        k += (size_t)snprintf(out + k, n - k, "%-8s %6.1f MS  (WORK %.1f)\n", a->stages[i].stage,
+                              a->stages[i].latency_ms, a->stages[i].work_ms);
+    if (k < n)
+        k += (size_t)snprintf(out + k, n - k, "GARMENT %s\n",
+                              a->garment_id[0] ? a->garment_id : "(WAITING)");
+    if (a->fit_map && k < n)
+        snprintf(out + k, n - k, "FIT MAP: STRAIN 0 - %.0f%%\n", 100.0 * MIRROR_FIT_MAP_LIMIT);
+}
+
+static void write_outputs(mirror_app *a)
+{
+    char err[512], path[600];
+    mirror_read_rgb(a->renderer, a->rgb);
+    if (a->out_dir && a->frames_drawn % a->png_every == 0) {
+        snprintf(path, sizeof path, "%s/frame_%05d.png", a->out_dir, a->frames_drawn);
+        if (mirror_png_write(path, a->rgb, a->width, a->height, err, sizeof err) < 0)
+            fprintf(stderr, "tryon-mirror: frame %d not written: %s\n", a->frames_drawn, err);
+        else
+            a->pngs_written++;
+    }
+    if (a->video && mirror_video_write(a->video, a->rgb) < 0) {
+        fprintf(stderr, "tryon-mirror: ffmpeg stopped taking frames; video ends here\n");
+        mirror_video_close(a->video);
+        a->video = NULL;
+    }
+}
+
+int mirror_app_frame(mirror_app *a)
+{
+    int with_cloth = a->cloth_new, exact = 0;
+    a->cloth_new = a->depth_new = 0;
+    const mirror_depth *d = with_cloth ? mirror_ring_find(a->ring, a->cloth.utime_capture, &exact)
+                                       : mirror_ring_newest(a->ring);
+    if (!d)
+        return 0; /* no depth frame yet: nothing to draw the garment over */
+    a->unmatched += with_cloth && !exact;
+    bus_timing t;
+    bus_timing_begin(&t, "mirror", with_cloth ? a->cloth.seq : 0, d->utime_capture,
+                     with_cloth ? a->cloth.received_us : bus_now_wall_us());
+    mirror_mesh garment = {a->cloth.xyz, a->cloth.nv, a->cloth.tris, a->cloth.nt, NULL};
+    mirror_mesh body = {a->body.xyz, a->body.nv, a->body.tris, a->body.nt, NULL};
+    if (a->fit_map && with_cloth)
+        garment.strain =
+            mirror_strain_update(a->strain, garment.xyz, garment.nv, garment.tris, garment.nt);
+    char text[1024];
+    overlay_text(a, text, sizeof text);
+    mirror_view v = {.depth = d,
+                     .garment = a->have_cloth ? &garment : NULL,
+                     .body = a->show_body && a->body.nt > 0 ? &body : NULL,
+                     .fit_map = a->fit_map,
+                     .overlay_text = a->overlay ? text : NULL};
+    char err[512];
+    if (mirror_render(a->renderer, &v, err, sizeof err) < 0) {
+        fprintf(stderr, "tryon-mirror: frame %d: %s; skipped\n", a->frames_drawn, err);
+        return 0;
+    }
+    if (a->window) {
+        int w, h;
+        mirror_window_size(a->window, &w, &h);
+        mirror_present(a->renderer, w, h);
+        if (a->out_dir || a->video) /* what the window shows, read back from its own buffer */
+            write_outputs(a);
+        mirror_window_swap(a->window);
+    } else {
+        write_outputs(a);
+    }
+    glFinish(); /* on screen (or in the file) before the frame is called done */
+    int64_t now = bus_now_mono_us();
+    if (a->last_frame_us)
+        a->fps += 0.1 * (1e6 / (double)(now - a->last_frame_us) - a->fps);
+    a->last_frame_us = now;
+    if (with_cloth) {
+        a->frames_drawn++;
+        bus_timing_publish(a->lcm, &t);
+    }
+    return 0;
+}
+
+void mirror_app_send_control(mirror_app *a)
+{
+    tryon_control_t c = {.utime = bus_now_wall_us(),
+                         .seq = a->control_seq++,
+                         .garment = (char *)a->garments[a->garment],
+                         .size = (int8_t)a->size,
+                         .fabric = (char *)(a->fabric ? a->fabric : "")};
+    bus_reject why;
+    if (bus_publish(a->lcm, a->ch_control, BUS_CONTROL, &c, &why) != BUS_OK)
+        fprintf(stderr, "tryon-mirror: CONTROL not sent: %s (%s)\n", bus_error_text(why.code),
+                why.detail);
+    else
+        fprintf(stderr, "tryon-mirror: asked for %s size %c\n", c.garment, "SML"[a->size]);
+}
+
+static void held_free(mirror_held *h)
+{
+    free(h->xyz);
+    free(h->tris);
+}
+
+void mirror_app_close(mirror_app *a)
+{
+    if (a->video) {
+        int st = mirror_video_close(a->video);
+        if (st != 0)
+            fprintf(stderr, "tryon-mirror: ffmpeg exited with %d; %s may be incomplete\n", st,
+                    a->video_path);
+        else
+            fprintf(stderr, "tryon-mirror: video %s\n", a->video_path);
+    }
+    fprintf(stderr,
+            "tryon-mirror: %d frames drawn (%d PNG), %d CLOTH without its DEPTH frame, %d CLOTH "
+            "skipped (triangles not yet received)\n",
+            a->frames_drawn, a->pngs_written, a->unmatched, a->cloth_skipped);
+    for (int i = 0; i < 4; i++)
+        if (a->subs[i]) {
+            const bus_stats *s = bus_sub_stats(a->subs[i]);
+            if (s->rejected)
+                fprintf(stderr, "tryon-mirror: %llu malformed messages dropped (%s)\n",
+                        (unsigned long long)s->rejected, bus_error_text(s->last.code));
+            bus_unsubscribe(a->lcm, a->subs[i]);
+        }
+    mirror_renderer_destroy(a->renderer);
+    mirror_window_destroy(a->window);
+    mirror_gl_destroy(a->gl);
+    if (a->lcm)
+        lcm_destroy(a->lcm);
+    mirror_ring_destroy(a->ring);
+    mirror_strain_destroy(a->strain);
+    held_free(&a->cloth);
+    held_free(&a->body);
+    free(a->rgb);
+}

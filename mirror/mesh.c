@@ -1,0 +1,226 @@
+/* The meshes of one frame, built on the CPU: the person from the depth image, the garment and
+ * the body from their world-space triangles. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_private.h"
+
+/* Neighbouring depth samples belong to one surface when they differ by less than this, or by
+ * this fraction of the depth: a Kinect v1 step at 4 m is 46 mm (ARCHITECTURE.md), an arm in front
+ * of the torso is 0.1 m and more. */
+#define MIRROR_EDGE_JUMP_M   0.06f
+#define MIRROR_EDGE_JUMP_REL 0.025f
+
+int mirror_cpu_mesh_reserve(mirror_cpu_mesh *m, int nv, int ni)
+{
+    if (nv > m->v_cap) {
+        mirror_vertex *v = realloc(m->v, (size_t)nv * sizeof *v);
+        if (!v)
+            return -1;
+        m->v = v;
+        m->v_cap = nv;
+    }
+    if (ni > m->i_cap) {
+        uint32_t *i = realloc(m->idx, (size_t)ni * sizeof *i);
+        if (!i)
+            return -1;
+        m->idx = i;
+        m->i_cap = ni;
+    }
+    m->nv = m->ni = 0;
+    return 0;
+}
+
+void mirror_cpu_mesh_free(mirror_cpu_mesh *m)
+{
+    free(m->v);
+    free(m->idx);
+    free(m->z);
+    memset(m, 0, sizeof *m);
+}
+
+static void normalize3(float *n)
+{
+    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (l > 1e-12f) {
+        n[0] /= l;
+        n[1] /= l;
+        n[2] /= l;
+    } else {
+        n[0] = n[1] = 0.0f;
+        n[2] = -1.0f; /* facing the camera */
+    }
+}
+
+static void cross3(const float *a, const float *b, float *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static int same_surface(float a, float b)
+{
+    float z = a > b ? a : b;
+    float jump = MIRROR_EDGE_JUMP_M > MIRROR_EDGE_JUMP_REL * z ? MIRROR_EDGE_JUMP_M
+                                                               : MIRROR_EDGE_JUMP_REL * z;
+    return fabsf(a - b) < jump;
+}
+
+/* Depth in metres at grid point (i, j), 0 where there is no reading. */
+static float grid_z(const mirror_depth *d, int step, int i, int j)
+{
+    uint16_t raw = d->data[(size_t)j * step * d->width + (size_t)i * step];
+    float z = (float)raw * d->metres_per_unit;
+    return z >= MIRROR_MIN_DEPTH_M && z <= MIRROR_MAX_DEPTH_M ? z : 0.0f;
+}
+
+static void grid_normal(const mirror_cpu_mesh *m, const float *z, int gw, int gh, int i, int j,
+                        float *n)
+{
+    int i0 = i > 0 && z[j * gw + i - 1] > 0 ? i - 1 : i;
+    int i1 = i + 1 < gw && z[j * gw + i + 1] > 0 ? i + 1 : i;
+    int j0 = j > 0 && z[(j - 1) * gw + i] > 0 ? j - 1 : j;
+    int j1 = j + 1 < gh && z[(j + 1) * gw + i] > 0 ? j + 1 : j;
+    const float *a = m->v[j * gw + i0].pos, *b = m->v[j * gw + i1].pos;
+    const float *c = m->v[j0 * gw + i].pos, *e = m->v[j1 * gw + i].pos;
+    float du[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    float dv[3] = {e[0] - c[0], e[1] - c[1], e[2] - c[2]};
+    cross3(dv, du, n); /* x right, y down, z forward: dv x du points at the camera */
+    normalize3(n);
+}
+
+int mirror_person_mesh(const mirror_depth *d, int step, mirror_cpu_mesh *out)
+{
+    int gw = d->width / step, gh = d->height / step;
+    if (gw < 2 || gh < 2)
+        return -1;
+    if (mirror_cpu_mesh_reserve(out, gw * gh, 6 * (gw - 1) * (gh - 1)) < 0)
+        return -1;
+    if (gw * gh > out->z_cap) {
+        float *zz = realloc(out->z, (size_t)gw * gh * sizeof *zz);
+        if (!zz)
+            return -1;
+        out->z = zz;
+        out->z_cap = gw * gh;
+    }
+    float *z = out->z;
+    const float rgba[4] = MIRROR_PERSON_RGBA;
+    for (int j = 0; j < gh; j++)
+        for (int i = 0; i < gw; i++) {
+            float zz = grid_z(d, step, i, j);
+            float u = (float)(i * step), v = (float)(j * step);
+            mirror_vertex *p = &out->v[j * gw + i];
+            z[j * gw + i] = zz;
+            p->pos[0] = (u - d->cx) * zz / d->fx;
+            p->pos[1] = (v - d->cy) * zz / d->fy;
+            p->pos[2] = zz;
+            memcpy(p->rgba, rgba, sizeof rgba);
+        }
+    for (int j = 0; j < gh; j++)
+        for (int i = 0; i < gw; i++)
+            grid_normal(out, z, gw, gh, i, j, out->v[j * gw + i].normal);
+    int ni = 0;
+    for (int j = 0; j + 1 < gh; j++)
+        for (int i = 0; i + 1 < gw; i++) {
+            uint32_t a = (uint32_t)(j * gw + i), b = a + 1, c = a + (uint32_t)gw, e = c + 1;
+            float za = z[a], zb = z[b], zc = z[c], ze = z[e];
+            if (za <= 0 || zb <= 0 || zc <= 0 || ze <= 0)
+                continue;
+            if (!same_surface(za, zb) || !same_surface(za, zc) || !same_surface(ze, zb) ||
+                !same_surface(ze, zc))
+                continue;
+            uint32_t q[6] = {a, c, b, b, c, e};
+            memcpy(out->idx + ni, q, sizeof q);
+            ni += 6;
+        }
+    out->nv = gw * gh;
+    out->ni = ni;
+    return 0;
+}
+
+int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out)
+{
+    if (mirror_cpu_mesh_reserve(out, m->nv, m->nt * 3) < 0)
+        return -1;
+    for (int i = 0; i < m->nv; i++) {
+        mirror_vertex *p = &out->v[i];
+        memcpy(p->pos, &m->xyz[i * 3], 3 * sizeof(float));
+        memset(p->normal, 0, sizeof p->normal);
+        if (fit_map && m->strain) {
+            mirror_fit_colour(m->strain[i], p->rgba);
+            p->rgba[3] = rgba[3];
+        } else {
+            memcpy(p->rgba, rgba, 4 * sizeof(float));
+        }
+    }
+    for (int t = 0; t < m->nt; t++) {
+        const int32_t *f = &m->tris[t * 3];
+        if (f[0] < 0 || f[1] < 0 || f[2] < 0 || f[0] >= m->nv || f[1] >= m->nv || f[2] >= m->nv)
+            return -1;
+        const float *a = out->v[f[0]].pos, *b = out->v[f[1]].pos, *c = out->v[f[2]].pos;
+        float ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, n[3];
+        cross3(ab, ac, n); /* length = twice the area: area-weighted */
+        for (int k = 0; k < 3; k++)
+            for (int q = 0; q < 3; q++)
+                out->v[f[k]].normal[q] += n[q];
+        out->idx[t * 3 + 0] = (uint32_t)f[0];
+        out->idx[t * 3 + 1] = (uint32_t)f[1];
+        out->idx[t * 3 + 2] = (uint32_t)f[2];
+    }
+    for (int i = 0; i < m->nv; i++)
+        normalize3(out->v[i].normal);
+    out->nv = m->nv;
+    out->ni = m->nt * 3;
+    return 0;
+}
+
+void mirror_fit_colour(float strain, float *rgb)
+{
+    float t = strain / MIRROR_FIT_MAP_LIMIT;
+    t = t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+    /* green (0) -> yellow (0.5) -> red (1) */
+    rgb[0] = t < 0.5f ? 2.0f * t : 1.0f;
+    rgb[1] = t < 0.5f ? 0.85f : 0.85f * (2.0f - 2.0f * t);
+    rgb[2] = 0.1f;
+}
+
+void mirror_projection(const mirror_depth *d, int out_w, int out_h, float p[16])
+{
+    const float n = 0.1f, f = 20.0f; /* metres: nearer than any reading, farther than any */
+    float s = (float)out_h / (float)d->height;
+    float offx = 0.5f * ((float)out_w - s * (float)d->width);
+    memset(p, 0, 16 * sizeof *p);
+    /* pixel (u + 0.5) * s + offx of a W-wide picture, then mirrored left-right: x -> -x */
+    p[0] = -2.0f * s * d->fx / (float)out_w;
+    p[2] = -(2.0f * (s * (d->cx + 0.5f) + offx) / (float)out_w - 1.0f);
+    p[5] = -2.0f * s * d->fy / (float)out_h;
+    p[6] = 1.0f - 2.0f * s * (d->cy + 0.5f) / (float)out_h;
+    p[10] = (f + n) / (f - n);
+    p[11] = -2.0f * f * n / (f - n);
+    p[14] = 1.0f;
+}
+
+void mirror_world_to_camera(const float c[16], float w[16])
+{
+    memset(w, 0, 16 * sizeof *w);
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++)
+            w[r * 4 + k] = c[k * 4 + r]; /* R^T */
+        w[r * 4 + 3] = -(c[0 * 4 + r] * c[3] + c[1 * 4 + r] * c[7] + c[2 * 4 + r] * c[11]);
+    }
+    w[15] = 1.0f;
+}
+
+void mirror_mat_mul(const float a[16], const float b[16], float out[16])
+{
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            float s = 0.0f;
+            for (int k = 0; k < 4; k++)
+                s += a[r * 4 + k] * b[k * 4 + c];
+            out[r * 4 + c] = s;
+        }
+}

@@ -1,0 +1,63 @@
+/* Private to mirror/: tryon-mirror's state between the bus and the renderer. */
+#ifndef TRYON_MIRROR_APP_H
+#define TRYON_MIRROR_APP_H
+
+#include "bus.h"
+#include "mirror.h"
+
+#define MIRROR_APP_MAX_GARMENTS 16
+#define MIRROR_APP_STAGES       8
+
+/* A mesh message kept between frames: triangles arrive only now and then (topology_id). */
+typedef struct mirror_held {
+    float *xyz;
+    int nv, v_cap;
+    int32_t *tris;
+    int nt, t_cap;
+    int32_t topology;
+    int64_t utime_capture, received_us;
+    int32_t seq;
+} mirror_held;
+
+typedef struct stage_latency {
+    char stage[32];
+    double latency_ms, work_ms; /* smoothed: finished - capture, finished - started */
+} stage_latency;
+
+typedef struct mirror_app {
+    /* options */
+    int width, height, headless, kiosk, frames_wanted, png_every, overlay, fit_map, show_body;
+    const char *out_dir, *video_path, *fabric;
+    const char *garments[MIRROR_APP_MAX_GARMENTS];
+    int num_garments, garment, size;
+    /* bus */
+    lcm_t *lcm;
+    bus_sub *subs[4];
+    char ch_control[BUS_CHANNEL_MAX];
+    int32_t control_seq;
+    /* what arrived */
+    mirror_ring *ring;
+    mirror_held cloth, body;
+    char garment_id[64];
+    int cloth_new, depth_new, have_cloth, cloth_skipped, unmatched;
+    int64_t last_cloth_us, last_frame_us;
+    stage_latency stages[MIRROR_APP_STAGES];
+    int num_stages;
+    double fps;
+    /* output */
+    mirror_gl *gl;
+    mirror_window *window;
+    mirror_renderer *renderer;
+    mirror_strain *strain;
+    mirror_video *video;
+    uint8_t *rgb;
+    int frames_drawn, pngs_written;
+} mirror_app;
+
+int mirror_app_open(mirror_app *a);      /* bus, subscriptions, GL (window or headless), outputs */
+void mirror_app_close(mirror_app *a);    /* and a summary on stderr */
+int mirror_app_due(const mirror_app *a); /* 1 = something new to draw */
+int mirror_app_frame(mirror_app *a);     /* draw, show or write, report TIMING */
+void mirror_app_send_control(mirror_app *a);
+
+#endif

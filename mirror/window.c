@@ -1,0 +1,111 @@
+/* The kiosk window: SDL2 with an OpenGL ES 3 context (through EGL, as headless). The renderer
+ * draws into its framebuffer object; mirror_present copies it to the window. */
+#include <SDL2/SDL.h>
+#include <stdio.h>
+
+#include "mirror.h"
+
+struct mirror_window {
+    SDL_Window *win;
+    SDL_GLContext ctx;
+};
+
+mirror_window *mirror_window_create(int width, int height, int kiosk, char *err, size_t n)
+{
+    SDL_SetHint(SDL_HINT_VIDEO_X11_FORCE_EGL, "1");
+    if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+        snprintf(err, n, "no display (%s): run with --headless --out DIR, or set DISPLAY",
+                 SDL_GetError());
+        return NULL;
+    }
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_ES);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 0);
+    SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+    Uint32 flags = SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE;
+    if (kiosk)
+        flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+    mirror_window *w = SDL_calloc(1, sizeof *w);
+    if (w)
+        w->win = SDL_CreateWindow("tryon mirror", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+                                  width, height, flags);
+    if (w && w->win)
+        w->ctx = SDL_GL_CreateContext(w->win);
+    if (!w || !w->win || !w->ctx) {
+        snprintf(err, n, "no OpenGL ES 3 window (%s): try --headless --out DIR", SDL_GetError());
+        mirror_window_destroy(w);
+        return NULL;
+    }
+    SDL_GL_SetSwapInterval(0); /* latency over tearing: frames come at the camera's pace */
+    if (kiosk)
+        SDL_ShowCursor(SDL_DISABLE);
+    return w;
+}
+
+void mirror_window_destroy(mirror_window *w)
+{
+    if (w) {
+        if (w->ctx)
+            SDL_GL_DeleteContext(w->ctx);
+        if (w->win)
+            SDL_DestroyWindow(w->win);
+        SDL_free(w);
+    }
+    SDL_Quit();
+}
+
+static mirror_key key_of(SDL_Keycode k)
+{
+    switch (k) {
+    case SDLK_RIGHT:
+    case SDLK_n:
+        return MIRROR_KEY_NEXT;
+    case SDLK_LEFT:
+    case SDLK_p:
+        return MIRROR_KEY_PREVIOUS;
+    case SDLK_UP:
+    case SDLK_PLUS:
+    case SDLK_EQUALS:
+        return MIRROR_KEY_SIZE_UP;
+    case SDLK_DOWN:
+    case SDLK_MINUS:
+        return MIRROR_KEY_SIZE_DOWN;
+    case SDLK_o:
+        return MIRROR_KEY_OVERLAY;
+    case SDLK_f:
+        return MIRROR_KEY_FIT_MAP;
+    case SDLK_b:
+        return MIRROR_KEY_BODY;
+    case SDLK_q:
+    case SDLK_ESCAPE:
+        return MIRROR_KEY_QUIT;
+    default:
+        return MIRROR_KEY_NONE;
+    }
+}
+
+mirror_key mirror_window_poll(mirror_window *w)
+{
+    (void)w;
+    SDL_Event e;
+    while (SDL_PollEvent(&e)) {
+        if (e.type == SDL_QUIT)
+            return MIRROR_KEY_QUIT;
+        if (e.type == SDL_KEYDOWN) {
+            mirror_key k = key_of(e.key.keysym.sym);
+            if (k != MIRROR_KEY_NONE)
+                return k;
+        }
+    }
+    return MIRROR_KEY_NONE;
+}
+
+void mirror_window_size(mirror_window *w, int *width, int *height)
+{
+    SDL_GL_GetDrawableSize(w->win, width, height);
+}
+
+void mirror_window_swap(mirror_window *w)
+{
+    SDL_GL_SwapWindow(w->win);
+}
