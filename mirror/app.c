@@ -250,10 +250,13 @@ int mirror_app_frame(mirror_app *a)
                      .fit_map = a->fit_map,
                      .overlay_text = a->overlay ? text : NULL};
     char err[512];
+    int64_t t0 = bus_now_mono_us();
     if (mirror_render(a->renderer, &v, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: frame %d: %s; skipped\n", a->frames_drawn, err);
         return 0;
     }
+    glFinish(); /* drawn: what follows is showing or saving it */
+    int64_t t1 = bus_now_mono_us();
     if (a->window) {
         int w, h;
         mirror_window_size(a->window, &w, &h);
@@ -261,11 +264,13 @@ int mirror_app_frame(mirror_app *a)
         if (a->out_dir || a->video) /* what the window shows, read back from its own buffer */
             write_outputs(a);
         mirror_window_swap(a->window);
+        glFinish(); /* on screen before the frame is called done */
     } else {
         write_outputs(a);
     }
-    glFinish(); /* on screen (or in the file) before the frame is called done */
     int64_t now = bus_now_mono_us();
+    bus_timing_add(&t, "render", (float)(t1 - t0) / 1000.0f);
+    bus_timing_add(&t, "output", (float)(now - t1) / 1000.0f);
     if (a->last_frame_us)
         a->fps += 0.1 * (1e6 / (double)(now - a->last_frame_us) - a->fps);
     a->last_frame_us = now;

@@ -1,16 +1,10 @@
-/* The meshes of one frame, built on the CPU: the person from the depth image, the garment and
- * the body from their world-space triangles. */
+/* The garment and the body as the renderer draws them: world-space triangles with area-weighted
+ * vertex normals; the projection that puts them over the depth camera's picture. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "render_private.h"
-
-/* Neighbouring depth samples belong to one surface when they differ by less than this, or by
- * this fraction of the depth: a Kinect v1 step at 4 m is 46 mm (ARCHITECTURE.md), an arm in front
- * of the torso is 0.1 m and more. */
-#define MIRROR_EDGE_JUMP_M   0.06f
-#define MIRROR_EDGE_JUMP_REL 0.025f
 
 int mirror_cpu_mesh_reserve(mirror_cpu_mesh *m, int nv, int ni)
 {
@@ -36,7 +30,6 @@ void mirror_cpu_mesh_free(mirror_cpu_mesh *m)
 {
     free(m->v);
     free(m->idx);
-    free(m->z);
     memset(m, 0, sizeof *m);
 }
 
@@ -58,86 +51,6 @@ static void cross3(const float *a, const float *b, float *out)
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static int same_surface(float a, float b)
-{
-    float z = a > b ? a : b;
-    float jump = MIRROR_EDGE_JUMP_M > MIRROR_EDGE_JUMP_REL * z ? MIRROR_EDGE_JUMP_M
-                                                               : MIRROR_EDGE_JUMP_REL * z;
-    return fabsf(a - b) < jump;
-}
-
-/* Depth in metres at grid point (i, j), 0 where there is no reading. */
-static float grid_z(const mirror_depth *d, int step, int i, int j)
-{
-    uint16_t raw = d->data[(size_t)j * step * d->width + (size_t)i * step];
-    float z = (float)raw * d->metres_per_unit;
-    return z >= MIRROR_MIN_DEPTH_M && z <= MIRROR_MAX_DEPTH_M ? z : 0.0f;
-}
-
-static void grid_normal(const mirror_cpu_mesh *m, const float *z, int gw, int gh, int i, int j,
-                        float *n)
-{
-    int i0 = i > 0 && z[j * gw + i - 1] > 0 ? i - 1 : i;
-    int i1 = i + 1 < gw && z[j * gw + i + 1] > 0 ? i + 1 : i;
-    int j0 = j > 0 && z[(j - 1) * gw + i] > 0 ? j - 1 : j;
-    int j1 = j + 1 < gh && z[(j + 1) * gw + i] > 0 ? j + 1 : j;
-    const float *a = m->v[j * gw + i0].pos, *b = m->v[j * gw + i1].pos;
-    const float *c = m->v[j0 * gw + i].pos, *e = m->v[j1 * gw + i].pos;
-    float du[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    float dv[3] = {e[0] - c[0], e[1] - c[1], e[2] - c[2]};
-    cross3(dv, du, n); /* x right, y down, z forward: dv x du points at the camera */
-    normalize3(n);
-}
-
-int mirror_person_mesh(const mirror_depth *d, int step, mirror_cpu_mesh *out)
-{
-    int gw = d->width / step, gh = d->height / step;
-    if (gw < 2 || gh < 2)
-        return -1;
-    if (mirror_cpu_mesh_reserve(out, gw * gh, 6 * (gw - 1) * (gh - 1)) < 0)
-        return -1;
-    if (gw * gh > out->z_cap) {
-        float *zz = realloc(out->z, (size_t)gw * gh * sizeof *zz);
-        if (!zz)
-            return -1;
-        out->z = zz;
-        out->z_cap = gw * gh;
-    }
-    float *z = out->z;
-    const float rgba[4] = MIRROR_PERSON_RGBA;
-    for (int j = 0; j < gh; j++)
-        for (int i = 0; i < gw; i++) {
-            float zz = grid_z(d, step, i, j);
-            float u = (float)(i * step), v = (float)(j * step);
-            mirror_vertex *p = &out->v[j * gw + i];
-            z[j * gw + i] = zz;
-            p->pos[0] = (u - d->cx) * zz / d->fx;
-            p->pos[1] = (v - d->cy) * zz / d->fy;
-            p->pos[2] = zz;
-            memcpy(p->rgba, rgba, sizeof rgba);
-        }
-    for (int j = 0; j < gh; j++)
-        for (int i = 0; i < gw; i++)
-            grid_normal(out, z, gw, gh, i, j, out->v[j * gw + i].normal);
-    int ni = 0;
-    for (int j = 0; j + 1 < gh; j++)
-        for (int i = 0; i + 1 < gw; i++) {
-            uint32_t a = (uint32_t)(j * gw + i), b = a + 1, c = a + (uint32_t)gw, e = c + 1;
-            float za = z[a], zb = z[b], zc = z[c], ze = z[e];
-            if (za <= 0 || zb <= 0 || zc <= 0 || ze <= 0)
-                continue;
-            if (!same_surface(za, zb) || !same_surface(za, zc) || !same_surface(ze, zb) ||
-                !same_surface(ze, zc))
-                continue;
-            uint32_t q[6] = {a, c, b, b, c, e};
-            memcpy(out->idx + ni, q, sizeof q);
-            ni += 6;
-        }
-    out->nv = gw * gh;
-    out->ni = ni;
-    return 0;
 }
 
 int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out)
@@ -187,11 +100,17 @@ void mirror_fit_colour(float strain, float *rgb)
     rgb[2] = 0.1f;
 }
 
+void mirror_picture_fit(const mirror_depth *d, int out_w, int out_h, float *scale, float *offx)
+{
+    *scale = (float)out_h / (float)d->height;
+    *offx = 0.5f * ((float)out_w - *scale * (float)d->width);
+}
+
 void mirror_projection(const mirror_depth *d, int out_w, int out_h, float p[16])
 {
     const float n = 0.1f, f = 20.0f; /* metres: nearer than any reading, farther than any */
-    float s = (float)out_h / (float)d->height;
-    float offx = 0.5f * ((float)out_w - s * (float)d->width);
+    float s, offx;
+    mirror_picture_fit(d, out_w, out_h, &s, &offx);
     memset(p, 0, 16 * sizeof *p);
     /* pixel (u + 0.5) * s + offx of a W-wide picture, then mirrored left-right: x -> -x */
     p[0] = -2.0f * s * d->fx / (float)out_w;

@@ -13,27 +13,23 @@ typedef struct mirror_vertex {
 typedef struct mirror_cpu_mesh {
     mirror_vertex *v;
     uint32_t *idx;
-    float *z; /* the person's depth per grid point, metres (0 = none) */
-    int nv, ni, v_cap, i_cap, z_cap;
+    int nv, ni, v_cap, i_cap;
 } mirror_cpu_mesh;
 int mirror_cpu_mesh_reserve(mirror_cpu_mesh *m, int nv, int ni);
 void mirror_cpu_mesh_free(mirror_cpu_mesh *m);
 
-/* The person: the depth frame as a grid of camera-space points, one vertex every step pixels,
- * triangles only where neighbouring depths belong to one surface. */
-#define MIRROR_PERSON_RGBA                                                                         \
-    {                                                                                              \
-        0.82f, 0.78f, 0.74f, 1.0f                                                                  \
-    }
+/* The person is drawn per picture pixel from the depth image (render.c, person_fs). */
 #define MIRROR_MIN_DEPTH_M 0.3f /* Kinect v1 sees nothing nearer (ARCHITECTURE.md: 0.5-4.5 m) */
 #define MIRROR_MAX_DEPTH_M 8.0f
-int mirror_person_mesh(const mirror_depth *d, int step, mirror_cpu_mesh *out);
 /* A world-space mesh with area-weighted vertex normals, one colour or the fit map. */
 int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out);
 
 /* Row-major 4x4 matrices. proj: camera space to clip space for an out_w x out_h picture of the
  * depth camera's view, fitted to the picture's height, mirrored left-right. */
 void mirror_projection(const mirror_depth *d, int out_w, int out_h, float proj[16]);
+/* How the picture samples the depth image: scale (picture pixels per depth pixel) and the
+ * picture's left margin, pixels. */
+void mirror_picture_fit(const mirror_depth *d, int out_w, int out_h, float *scale, float *offx);
 void mirror_world_to_camera(const float c2w[16], float w2c[16]);
 void mirror_mat_mul(const float a[16], const float b[16], float out[16]);
 

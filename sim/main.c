@@ -33,7 +33,7 @@ typedef struct pending_body {
 typedef struct app {
     lcm_t *lcm;
     sim_desc desc;
-    const char *garment_path;
+    const char *garment_path, *fabric;
     int verts, frames_wanted, frames_done, skipped, triangles_every;
     float hem_m;    /* the generated shirt's hem below the pelvis joint (0: sim_garment_shirt's) */
     int every_body; /* --queue all: simulate every body; else only the newest one */
@@ -280,7 +280,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
-            "                 [--follow F] [--retry-budget MS] [--hem M]\n"
+            "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
             "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
             "          names a device), else C; opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
@@ -316,6 +316,8 @@ static int parse(app *a, int argc, char **argv)
             a->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
         else if (!strcmp(o, "--garment"))
             a->garment_path = v;
+        else if (!strcmp(o, "--fabric"))
+            a->fabric = v;
         else if (!strcmp(o, "--verts"))
             a->verts = atoi(v);
         else if (!strcmp(o, "--iterations"))
@@ -335,8 +337,8 @@ static int parse(app *a, int argc, char **argv)
         i++;
     }
     sim_reject why;
-    if (sim_outfit_resolve(a->garment_path ? a->garment_path : "shirt", SIM_SIZE_M, "", &a->outfit,
-                           &why) < 0) {
+    if (sim_outfit_resolve(a->garment_path ? a->garment_path : "shirt", SIM_SIZE_M,
+                           a->fabric ? a->fabric : "", &a->outfit, &why) < 0) {
         fprintf(stderr, "tryon-sim: %s\n", why.detail);
         return -1;
     }

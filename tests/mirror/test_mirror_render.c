@@ -18,10 +18,10 @@
 #include "mirror_scene.h"
 #include "support.h"
 
-/* Edges are where the person mesh (one vertex every 2 depth pixels, triangles dropped across a
- * depth jump) and pixel rounding may differ from the exact geometry: pixels within this many
- * of a change in the expected picture are not judged. */
-#define EDGE_BAND_PX 3
+/* Edges are where pixel rounding (the depth image is sampled at the nearest pixel, the garment's
+ * edges rasterised) and the person's normals may differ from the exact geometry: pixels within
+ * this many of a change in the expected picture are not judged. */
+#define EDGE_BAND_PX 2
 /* Of the judged pixels, at least this fraction must show the expected class. */
 #define MIN_AGREEMENT 0.995
 
