@@ -48,56 +48,23 @@ static const char *quad_fs = "#version 300 es\n"
 static const char *person_fs =
     "#version 300 es\n"
     "precision highp float;\n"
-    "precision highp usampler2D;\n"
-    "uniform usampler2D u_depth;\n"
-    "uniform vec4 u_intr;\n"   /* fx, fy, cx, cy */
-    "uniform vec4 u_fit;\n"    /* scale, left margin, picture width, picture height */
-    "uniform vec4 u_range;\n"  /* metres per unit, nearest, farthest, edge jump (fraction) */
-    "uniform vec4 u_margin;\n" /* occlusion margin: x + y z + z z^2 metres */
-    "uniform vec2 u_clip;\n"   /* z_ndc = x + y / z */
+    "uniform highp sampler2D u_person;\n" /* per depth pixel: test depth (m), shade */
+    "uniform vec4 u_fit;\n"               /* scale, left margin, picture width, picture height */
+    "uniform vec2 u_clip;\n"              /* z_ndc = x + y / z */
     "uniform vec4 u_rgba;\n"
     "out vec4 o_rgba;\n"
-    "float depth_at(ivec2 p) {\n"
-    "  ivec2 size = textureSize(u_depth, 0);\n"
-    "  if (p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y) return 0.0;\n"
-    "  float z = float(texelFetch(u_depth, p, 0).r) * u_range.x;\n"
-    "  return z >= u_range.y && z <= u_range.z ? z : 0.0;\n"
-    "}\n"
-    "vec3 point(ivec2 p, float z) {\n"
-    "  return vec3((float(p.x) - u_intr.z) * z / u_intr.x, (float(p.y) - u_intr.w) * z / u_intr.y, "
-    "z);\n"
-    "}\n"
-    /* a neighbour on another surface (a depth jump) gives way to the centre */
-    "vec3 near(ivec2 p, ivec2 d, float z, vec3 c) {\n"
-    "  float zn = depth_at(p + d);\n"
-    "  return zn > 0.0 && abs(zn - z) < u_range.w * z ? point(p + d, zn) : c;\n"
-    "}\n"
     "void main() {\n"
     "  float u = (u_fit.z - gl_FragCoord.x - u_fit.y) / u_fit.x - 0.5;\n"
     "  float v = (u_fit.w - gl_FragCoord.y) / u_fit.x - 0.5;\n"
     "  ivec2 p = ivec2(floor(u + 0.5), floor(v + 0.5));\n"
-    "  float z = depth_at(p);\n"
-    "  if (z == 0.0) discard;\n"
-    "  vec3 c = point(p, z);\n"
-    "  vec3 du = near(p, ivec2(3, 0), z, c) - near(p, ivec2(-3, 0), z, c);\n"
-    "  vec3 dv = near(p, ivec2(0, 3), z, c) - near(p, ivec2(0, -3), z, c);\n"
-    "  vec3 n = cross(dv, du);\n"
-    "  float l = dot(n, n) > 0.0 ? abs(normalize(n).z) : 1.0;\n"
-    "  float zb = z + u_margin.x + u_margin.y * z + u_margin.z * z * z;\n"
-    "  gl_FragDepth = 0.5 * (u_clip.x + u_clip.y / zb) + 0.5;\n"
-    "  o_rgba = vec4(u_rgba.rgb * (0.3 + 0.7 * l), 1.0);\n"
+    "  ivec2 size = textureSize(u_person, 0);\n"
+    "  if (p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y) discard;\n"
+    "  vec2 t = texelFetch(u_person, p, 0).rg;\n"
+    "  if (t.r == 0.0) discard;\n"
+    "  gl_FragDepth = 0.5 * (u_clip.x + u_clip.y / t.r) + 0.5;\n"
+    "  o_rgba = vec4(u_rgba.rgb * (0.3 + 0.7 * t.g), 1.0);\n"
     "}\n";
 
-/* Neighbours on one surface differ by less than this fraction of the depth: an arm 0.1 m in
- * front of a torso at 2 m is 5 %; a Kinect v1 disparity step at 4 m is 1.2 % (ARCHITECTURE.md). */
-#define MIRROR_EDGE_JUMP 0.03f
-/* The person hides the garment only where it is in front of it by more than the camera's own
- * uncertainty: three axial sigmas of Kinect v1 noise, 3 (0.0012 + 0.0019 (z - 0.4)^2) m, plus one
- * disparity step, z^2 / (8 f b) = 0.0029 z^2 m (ARCHITECTURE.md, Nguyen et al. 2012): 24 mm at
- * 1.5 m, 47 mm at 2.5 m. Without it the cloth, 15 mm over the skin, flickers behind the noise. */
-#define MIRROR_MARGIN_C0   (3.0f * (0.0012f + 0.0019f * 0.16f))
-#define MIRROR_MARGIN_C1   (3.0f * 0.0019f * -0.8f)
-#define MIRROR_MARGIN_C2   (3.0f * 0.0019f + 0.0029f)
 #define MIRROR_PERSON_RGBA 0.82f, 0.78f, 0.74f, 1.0f
 #define MIRROR_BACKGROUND  0.06f, 0.06f, 0.09f
 #define MIRROR_GARMENT_RGBA                                                                        \
@@ -120,7 +87,9 @@ struct mirror_renderer {
     GLuint fbo, colour, depth;
     GLuint mesh_prog, quad_prog, person_prog;
     GLint u_mvp, u_view, u_tex;
-    GLint u_depth, u_intr, u_fit, u_range, u_clip, u_rgba, u_margin;
+    GLint u_person, u_fit, u_clip, u_rgba;
+    float *person_buf; /* mirror_person_image's */
+    int person_cap;
     gl_mesh garment, body;
     GLuint quad_vao, quad_vbo, panel_tex, depth_tex;
     mirror_cpu_mesh cpu_garment, cpu_body;
@@ -248,13 +217,10 @@ mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t
     r->u_mvp = glGetUniformLocation(r->mesh_prog, "u_mvp");
     r->u_view = glGetUniformLocation(r->mesh_prog, "u_view");
     r->u_tex = glGetUniformLocation(r->quad_prog, "u_tex");
-    r->u_depth = glGetUniformLocation(r->person_prog, "u_depth");
-    r->u_intr = glGetUniformLocation(r->person_prog, "u_intr");
+    r->u_person = glGetUniformLocation(r->person_prog, "u_person");
     r->u_fit = glGetUniformLocation(r->person_prog, "u_fit");
-    r->u_range = glGetUniformLocation(r->person_prog, "u_range");
     r->u_clip = glGetUniformLocation(r->person_prog, "u_clip");
     r->u_rgba = glGetUniformLocation(r->person_prog, "u_rgba");
-    r->u_margin = glGetUniformLocation(r->person_prog, "u_margin");
     glGenTextures(1, &r->depth_tex);
     glBindTexture(GL_TEXTURE_2D, r->depth_tex);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -307,6 +273,7 @@ void mirror_renderer_destroy(mirror_renderer *r)
     mirror_cpu_mesh_free(&r->cpu_body);
     free(r->panel);
     free(r->rows);
+    free(r->person_buf);
     free(r);
 }
 
@@ -334,26 +301,25 @@ static void quad(mirror_renderer *r, const float xyuv[16])
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 }
 
-static void person(mirror_renderer *r, const mirror_depth *d, const float proj[16])
+static int person(mirror_renderer *r, const mirror_depth *d, const float proj[16])
 {
+    if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
+        return -1;
     float s, offx;
     mirror_picture_fit(d, r->w, r->h, &s, &offx);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r->depth_tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R16UI, d->width, d->height, 0, GL_RED_INTEGER,
-                 GL_UNSIGNED_SHORT, d->data);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT,
+                 r->person_buf);
     glUseProgram(r->person_prog);
-    glUniform1i(r->u_depth, 0);
-    glUniform4f(r->u_intr, d->fx, d->fy, d->cx, d->cy);
+    glUniform1i(r->u_person, 0);
     glUniform4f(r->u_fit, s, offx, (float)r->w, (float)r->h);
-    glUniform4f(r->u_range, d->metres_per_unit, MIRROR_MIN_DEPTH_M, MIRROR_MAX_DEPTH_M,
-                MIRROR_EDGE_JUMP);
     glUniform2f(r->u_clip, proj[10], proj[11]);
     glUniform4f(r->u_rgba, MIRROR_PERSON_RGBA);
-    glUniform4f(r->u_margin, MIRROR_MARGIN_C0, MIRROR_MARGIN_C1, MIRROR_MARGIN_C2, 0.0f);
     static const float full[16] = {-1, -1, 0, 0, 1, -1, 0, 0, -1, 1, 0, 0, 1, 1, 0, 0};
     quad(r, full);
+    return 0;
 }
 
 /* The overlay: text rasterised into a small RGBA panel, drawn over the top-left corner. */
@@ -428,7 +394,10 @@ int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
         glDisable(GL_CULL_FACE); /* the mirror flip turns every winding around */
-        person(r, v->depth, proj);
+        if (person(r, v->depth, proj) < 0) {
+            snprintf(err, n, "out of memory for the person's image");
+            return -1;
+        }
         glUseProgram(r->mesh_prog);
         if (v->garment) {
             float rgba[4] = MIRROR_GARMENT_RGBA;
