@@ -17,6 +17,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: tryon run [RECORDING | --live] [--headless --out DIR] [--video FILE.mp4]\n"
                "                 [--garment FILE] [--fabric NAME] [--record DIR]\n"
                "                 [--body bodyfit|truth] [--backend auto|c|opencl] [--rate R]\n"
+               "                 [--png-every N]\n"
                "       tryon replay LOG [--headless --out DIR] [--video FILE.mp4] [--speed S]\n"
                "  RECORDING: a fakenect dump (INDEX.txt) or an .oni file; --live: a camera\n"
                "             (libfreenect, then OpenNI2)\n"
@@ -45,15 +46,16 @@ static int parse_run(session_opts *o, int argc, char **argv)
             fprintf(stderr, "tryon: %s: unknown option or missing value\n", a);
             return -1;
         } else {
-            const char **slot = !strcmp(a, "--out")       ? &o->out_dir
-                                : !strcmp(a, "--video")   ? &o->video
-                                : !strcmp(a, "--garment") ? &o->garment
-                                : !strcmp(a, "--fabric")  ? &o->fabric
-                                : !strcmp(a, "--record")  ? &o->record_dir
-                                : !strcmp(a, "--body")    ? &o->body
-                                : !strcmp(a, "--backend") ? &o->backend
-                                : !strcmp(a, "--rate")    ? &o->rate
-                                                          : NULL;
+            const char **slot = !strcmp(a, "--out")         ? &o->out_dir
+                                : !strcmp(a, "--video")     ? &o->video
+                                : !strcmp(a, "--garment")   ? &o->garment
+                                : !strcmp(a, "--fabric")    ? &o->fabric
+                                : !strcmp(a, "--record")    ? &o->record_dir
+                                : !strcmp(a, "--body")      ? &o->body
+                                : !strcmp(a, "--backend")   ? &o->backend
+                                : !strcmp(a, "--rate")      ? &o->rate
+                                : !strcmp(a, "--png-every") ? &o->png_every
+                                                            : NULL;
             if (!slot) {
                 fprintf(stderr, "tryon: %s: unknown option\n", a);
                 return -1;
@@ -128,6 +130,10 @@ int session_add_view(session *s)
     if (out) {
         session_arg(s, m, "--out", NULL);
         session_arg(s, m, "%s", *out ? out : s->dir);
+    }
+    if (out && s->o.png_every) {
+        session_arg(s, m, "--png-every", NULL);
+        session_arg(s, m, "%s", s->o.png_every);
     }
     if (s->o.video) {
         session_arg(s, m, "--video", NULL);

@@ -18,7 +18,7 @@ typedef struct session_opts {
     int live, headless;
     const char *out_dir, *video, *garment, *fabric, *record_dir, *body, *backend, *rate;
     const char *log; /* replay */
-    const char *speed;
+    const char *speed, *png_every;
 } session_opts;
 
 typedef struct session {
