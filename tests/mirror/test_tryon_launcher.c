@@ -79,7 +79,10 @@ static void start(run *r, const char *rate)
     snprintf(r->outdir, sizeof r->outdir, "%s/frames", r->dir);
     char *argv[] = {TRYON_EXE, "run",       SAMPLE, "--body", "truth",      "--headless", "--out",
                     r->outdir, "--backend", "c",    "--rate", (char *)rate, NULL};
-    r->launcher = ts_spawn_out(argv, NULL, r->out);
+    char tmpdir[300];
+    snprintf(tmpdir, sizeof tmpdir, "TMPDIR=%s", r->dir); /* the launcher's logs go here too */
+    char *env[] = {tmpdir, NULL};
+    r->launcher = ts_spawn_out(argv, env, r->out);
     assert_true(r->launcher > 0);
     r->capture = wait_pid_after(r->out, "started tryon-capture", 30000);
     r->sim = pid_after(r->out, "started tryon-sim");
