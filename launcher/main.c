@@ -229,14 +229,20 @@ static int run(int argc, char **argv)
     static session s;
     if (parse_run(&s.o, argc, argv) < 0 || preflight(&s.o) < 0)
         return 2;
-    int status = 1;
+    int status = 1, ran = 0;
     if (session_open(&s) == 0 && add_stages(&s) == 0 && session_start(&s, 0) == 0) {
         if (s.o.live ? start_live(&s) == 0
-                     : add_capture(&s, "freenect") == 0 && session_start(&s, s.n - 1) == 0)
+                     : add_capture(&s, "freenect") == 0 && session_start(&s, s.n - 1) == 0) {
             status = session_supervise(&s);
+            ran = 1;
+        }
     }
-    session_summary(&s); /* the stages have stopped: every TIMING is in */
     session_close(&s);
+    if (!ran) { /* said above, with the stage's own words */
+        bus_profile_destroy(s.profile);
+        return status;
+    }
+    session_summary(&s); /* every stage has stopped: every TIMING is in */
     const char *out = s.o.out_dir ? s.o.out_dir : s.o.headless && !s.o.video ? s.dir : NULL;
     if (out)
         printf("== frames: %s/frame_*.png\n", out);

@@ -125,6 +125,7 @@ int tryon_replay(int argc, char **argv)
         }
     }
     session_close(&s);
+    bus_profile_destroy(s.profile);
     printf("== the recorded session's latency per stage (%s):\n", log);
     bus_profile_print(r.profile, stdout);
     bus_profile_destroy(r.profile);

@@ -69,9 +69,10 @@ void session_close(session *s)
     launch_stop_all(s->st, s->n, 3000);
     if (s->timing_sub)
         bus_unsubscribe(s->lcm, s->timing_sub);
+    s->timing_sub = NULL;
     if (s->lcm)
         lcm_destroy(s->lcm);
-    bus_profile_destroy(s->profile);
+    s->lcm = NULL;
 }
 
 launch_stage *session_stage(session *s, const char *exe, launch_role role, const char *ready)
@@ -212,4 +213,6 @@ void session_summary(session *s)
     bus_profile_print(s->profile, stdout);
     printf("== logs: %s\n", s->dir);
     fflush(stdout);
+    bus_profile_destroy(s->profile);
+    s->profile = NULL;
 }

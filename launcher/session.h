@@ -49,7 +49,7 @@ int tryon_replay(int argc, char **argv);
 /* Supervises until the source ends, the view quits, Ctrl-C, or a stage fails for good; then
  * stops every stage. Returns the launcher's exit status. */
 int session_supervise(session *s);
-void session_summary(session *s);
-void session_request_stop(void); /* async-signal-safe */
+void session_summary(session *s); /* after session_close; frees the profile */
+void session_request_stop(void);  /* async-signal-safe */
 
 #endif

@@ -15,7 +15,7 @@
 float mirror_occlusion_margin_m(float z)
 {
     /* Three axial sigmas of Kinect v1 noise, 3 (0.0012 + 0.0019 (z - 0.4)^2) m, plus one
-     * disparity step, z^2 / (8 f b) = 0.0029 z^2 m (ARCHITECTURE.md, Nguyen et al. 2012): 24 mm
+     * disparity step, z^2 / (8 f b) = 0.0029 z^2 m (ARCHITECTURE.md, Nguyen et al. 2012): 17 mm
      * at 1.5 m, 47 mm at 2.5 m. Without it the cloth, 15 mm over the skin, flickers behind the
      * noise. */
     return 3.0f * (0.0012f + 0.0019f * (z - 0.4f) * (z - 0.4f)) + 0.0029f * z * z;
