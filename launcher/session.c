@@ -144,6 +144,8 @@ int session_start(session *s, int first)
 /* A stage ended by itself. Returns 1 when the session should end (cleanly: *status 0). */
 static int on_stage_exit(launch_stage *st, int code, int *status)
 {
+    if (stop_requested) /* Ctrl-C reached the stages too (one process group): nothing to restart */
+        return 1;
     if (st->role == LAUNCH_SOURCE && code == 0) {
         fprintf(stderr, "tryon: %s finished: the recording has ended\n", st->name);
         return 1;

@@ -97,14 +97,14 @@ echo "== per-stage latency (tryon-profile --log $log):"
 if [ -n "$(bin tryon)" ] && [ -n "$(bin tryon-mirror)" ]; then
     show="$build/demo_mirror"
     rm -rf "$show" && mkdir -p "$show"
-    headless=(--headless --out "$show" --png-every 30 --video "$show/demo.mp4")
+    headless=(--headless --out "$show" --png-every 10 --video "$show/demo.mp4")
     unset TRYON_CHANNEL_PREFIX # tryon picks its own private prefix
     run=("$(bin tryon)" run "$rec" --body "${TRYON_DEMO_BODY:-truth}" --backend "$backend")
     if [ -n "${DISPLAY:-}" ] && echo "== tryon run: the mirror in a window" &&
         "${run[@]}"; then
         :
     else
-        echo "== tryon run: no working display; the mirror writes a video and a PNG a second"
+        echo "== tryon run: no working display; the mirror writes a video and every tenth frame as a PNG"
         "${run[@]}" "${headless[@]}" || status=1
         echo "== the mirror's output: $show/demo.mp4 and $(find "$show" -name '*.png' | wc -l)" \
             "PNG frames in $show"

@@ -1,8 +1,8 @@
 /* The tryon launcher: every stage its own process on the test's private bus (tryon-truth as the
  * body stage: tryon-bodyfit is not needed here). A SIGKILLed stage is started again within a
  * second, a CONTROL request dresses the body in another garment while the pipeline runs,
- * Ctrl-C and the end of the recording both stop everything with no process left behind, and bad
- * invocations are refused with the fix named. */
+ * Ctrl-C and the end of the recording both stop everything with no process left behind, a
+ * recorded session replays, and bad invocations are refused with the fix named. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -200,6 +200,34 @@ static void test_control_switches_garment_and_ctrl_c_stops_all(void **state)
     finish(&r, st, 0);
 }
 
+static void test_recorded_session_replays(void **state)
+{
+    (void)state;
+    char dir[256], rec[300], out[300], log[320], frames[320], png[340], txt[320];
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "replay"), 0);
+    snprintf(rec, sizeof rec, "%s/session", dir);
+    snprintf(out, sizeof out, "%s/frames", dir);
+    snprintf(log, sizeof log, "%s/session.lcmlog", rec);
+    snprintf(frames, sizeof frames, "%s/replayed", dir);
+    snprintf(txt, sizeof txt, "%s/out.txt", dir);
+    char *run[] = {TRYON_EXE,  "run", SAMPLE,   "--body", "truth",     "--headless", "--out", out,
+                   "--record", rec,   "--rate", "4",      "--backend", "c",          NULL};
+    assert_int_equal(ts_wait(ts_spawn_out(run, NULL, txt), 60000), 0);
+    char *replay[] = {TRYON_EXE, "replay", log, "--headless", "--out", frames, NULL};
+    char tmpdir[300];
+    snprintf(tmpdir, sizeof tmpdir, "TMPDIR=%s", dir); /* the replay's logs */
+    char *env[] = {tmpdir, NULL};
+    assert_int_equal(ts_wait(ts_spawn_out(replay, env, txt), 60000), 0);
+    char *said = ts_read_file(txt);
+    assert_non_null(said);
+    if (!strstr(said, "the recorded session's latency") || !strstr(said, "\"last_stage\""))
+        fail_msg("no summary of the recorded session:\n%s", said);
+    free(said);
+    snprintf(png, sizeof png, "%s/frame_00000.png", frames); /* the replay drew the garment */
+    assert_int_equal(access(png, R_OK), 0);
+    ts_remove_dir(dir);
+}
+
 static void expect_refusal(char *const argv[], char *const env[], int status, const char *text)
 {
     char dir[256], out[300];
@@ -247,6 +275,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_killed_stage_restarts_and_nothing_is_left),
         cmocka_unit_test(test_control_switches_garment_and_ctrl_c_stops_all),
+        cmocka_unit_test(test_recorded_session_replays),
         cmocka_unit_test(test_bad_invocations_name_the_fix),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
