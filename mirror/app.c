@@ -139,7 +139,8 @@ static int open_output(mirror_app *a)
     if (!a->rgb)
         return -1;
     if (a->video_path) {
-        a->video = mirror_video_open(a->video_path, a->width, a->height, 30, err, sizeof err);
+        a->video = mirror_video_open(a->video_path, a->width, a->height, MIRROR_VIDEO_FPS, err,
+                                     sizeof err);
         if (!a->video) {
             fprintf(stderr, "tryon-mirror: --video %s: %s\n", a->video_path, err);
             return -1;
@@ -218,11 +219,22 @@ static void write_outputs(mirror_app *a)
         else
             a->pngs_written++;
     }
-    if (a->video && mirror_video_write(a->video, a->rgb) < 0) {
-        fprintf(stderr, "tryon-mirror: ffmpeg stopped taking frames; video ends here\n");
-        mirror_video_close(a->video);
-        a->video = NULL;
-    }
+    if (!a->video)
+        return;
+    /* The video keeps the camera's time: a frame the mirror had no time to draw is the last one
+     * drawn again, so the video plays at the session's pace (at most a second of repeats). */
+    int64_t t = a->cloth.utime_capture;
+    if (a->video_frames == 0)
+        a->video_t0 = t;
+    int64_t due = 1 + (t - a->video_t0 + MIRROR_VIDEO_FRAME_US / 2) / MIRROR_VIDEO_FRAME_US;
+    int repeat = due - a->video_frames < 1 ? 1 : (int)(due - a->video_frames);
+    repeat = repeat > MIRROR_VIDEO_FPS ? MIRROR_VIDEO_FPS : repeat;
+    for (int i = 0; i < repeat && a->video; i++, a->video_frames++)
+        if (mirror_video_write(a->video, a->rgb) < 0) {
+            fprintf(stderr, "tryon-mirror: ffmpeg stopped taking frames; video ends here\n");
+            mirror_video_close(a->video);
+            a->video = NULL;
+        }
 }
 
 int mirror_app_frame(mirror_app *a)

@@ -7,6 +7,8 @@
 
 #define MIRROR_APP_MAX_GARMENTS 16
 #define MIRROR_APP_STAGES       8
+#define MIRROR_VIDEO_FPS        30 /* the camera's rate */
+#define MIRROR_VIDEO_FRAME_US   (1000000 / MIRROR_VIDEO_FPS)
 
 /* A mesh message kept between frames: triangles arrive only now and then (topology_id). */
 typedef struct mirror_held {
@@ -52,6 +54,7 @@ typedef struct mirror_app {
     mirror_video *video;
     uint8_t *rgb;
     int frames_drawn, pngs_written;
+    int64_t video_frames, video_t0; /* frames piped; the first one's utime_capture */
 } mirror_app;
 
 int mirror_app_open(mirror_app *a);      /* bus, subscriptions, GL (window or headless), outputs */
