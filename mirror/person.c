@@ -21,8 +21,16 @@ float mirror_occlusion_margin_m(float z)
     return 3.0f * (0.0012f + 0.0019f * (z - 0.4f) * (z - 0.4f)) + 0.0029f * z * z;
 }
 
-static float depth_at(const mirror_depth *d, int u, int v)
+/* The depth image with what the per-pixel work needs, computed once: a division per neighbour
+ * per pixel cost more than everything else together. */
+typedef struct depth_view {
+    const mirror_depth *d;
+    float inv_fx, inv_fy;
+} depth_view;
+
+static float depth_at(const depth_view *w, int u, int v)
 {
+    const mirror_depth *d = w->d;
     if (u < 0 || v < 0 || u >= d->width || v >= d->height)
         return 0.0f;
     float z = (float)d->data[(size_t)v * d->width + u] * d->metres_per_unit;
@@ -30,12 +38,12 @@ static float depth_at(const mirror_depth *d, int u, int v)
 }
 
 /* The camera-space point at (u, v) if it lies on the same surface as depth z, else c. */
-static void near(const mirror_depth *d, int u, int v, float z, const float *c, float *out)
+static void near(const depth_view *w, int u, int v, float z, const float *c, float *out)
 {
-    float zn = depth_at(d, u, v);
+    float zn = depth_at(w, u, v);
     if (zn > 0.0f && fabsf(zn - z) < MIRROR_EDGE_JUMP * z) {
-        out[0] = ((float)u - d->cx) * zn / d->fx;
-        out[1] = ((float)v - d->cy) * zn / d->fy;
+        out[0] = ((float)u - w->d->cx) * zn * w->inv_fx;
+        out[1] = ((float)v - w->d->cy) * zn * w->inv_fy;
         out[2] = zn;
     } else {
         out[0] = c[0];
@@ -44,21 +52,21 @@ static void near(const mirror_depth *d, int u, int v, float z, const float *c, f
     }
 }
 
-static float shade(const mirror_depth *d, int u, int v, float z)
+static float shade(const depth_view *w, int u, int v, float z)
 {
     const int s = MIRROR_NORMAL_STEP;
-    float c[3] = {((float)u - d->cx) * z / d->fx, ((float)v - d->cy) * z / d->fy, z};
+    float c[3] = {((float)u - w->d->cx) * z * w->inv_fx, ((float)v - w->d->cy) * z * w->inv_fy, z};
     float l[3], r[3], t[3], b[3];
-    near(d, u - s, v, z, c, l);
-    near(d, u + s, v, z, c, r);
-    near(d, u, v - s, z, c, t);
-    near(d, u, v + s, z, c, b);
+    near(w, u - s, v, z, c, l);
+    near(w, u + s, v, z, c, r);
+    near(w, u, v - s, z, c, t);
+    near(w, u, v + s, z, c, b);
     float du[3] = {r[0] - l[0], r[1] - l[1], r[2] - l[2]};
     float dv[3] = {b[0] - t[0], b[1] - t[1], b[2] - t[2]};
     float n[3] = {dv[1] * du[2] - dv[2] * du[1], dv[2] * du[0] - dv[0] * du[2],
                   dv[0] * du[1] - dv[1] * du[0]};
-    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    return len > 0.0f ? fabsf(n[2]) / len : 1.0f;
+    float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    return len2 > 0.0f ? fabsf(n[2]) / sqrtf(len2) : 1.0f;
 }
 
 int mirror_person_image(const mirror_depth *d, float **buf, int *cap)
@@ -72,11 +80,12 @@ int mirror_person_image(const mirror_depth *d, float **buf, int *cap)
         *cap = n;
     }
     float *out = *buf;
+    depth_view w = {d, 1.0f / d->fx, 1.0f / d->fy};
     for (int v = 0; v < d->height; v++)
         for (int u = 0; u < d->width; u++) {
-            float z = depth_at(d, u, v), *o = &out[((size_t)v * d->width + u) * 2];
+            float z = depth_at(&w, u, v), *o = &out[((size_t)v * d->width + u) * 2];
             o[0] = z > 0.0f ? z + mirror_occlusion_margin_m(z) : 0.0f;
-            o[1] = z > 0.0f ? shade(d, u, v, z) : 0.0f;
+            o[1] = z > 0.0f ? shade(&w, u, v, z) : 0.0f;
         }
     return 0;
 }
