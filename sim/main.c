@@ -50,6 +50,8 @@ typedef struct app {
     char channel_cloth[BUS_CHANNEL_MAX];
     sim_outfit outfit, wanted, before; /* worn, asked for over CONTROL (sim/outfit.c), last */
     int want_switch, controls_refused;
+    int32_t topology; /* CLOTH's topology_id: a new one for every garment made */
+    int tris_due;     /* the garment is new: its triangles go with the next CLOTH */
 } app;
 
 /* --backend auto: the OpenCL backend where the device it would open is a GPU or TRYON_CL_DEVICE
@@ -86,6 +88,8 @@ static int make_sim(app *a, const pending_body *b)
         return -1;
     }
     a->desc.fabric = a->outfit.fabric;
+    a->topology++;
+    a->tris_due = 1;
     if (a->backend_auto)
         auto_backend(a);
     a->sim = sim_create(&a->desc, &g, &why);
@@ -129,7 +133,8 @@ static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bu
 {
     sim_copy_positions(a->sim, a->xyz);
     int nv = sim_vertex_count(a->sim), nt = sim_triangle_count(a->sim);
-    int with_tris = a->frames_done % a->triangles_every == 0;
+    int with_tris = a->tris_due || a->frames_done % a->triangles_every == 0;
+    a->tris_due = 0;
     tryon_cloth_t msg = {
         .utime_capture = b->utime_capture,
         .seq = b->seq,
@@ -139,7 +144,7 @@ static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bu
         .p99_strain = st->p99_strain,
         .penetrating = st->penetrating,
         .max_pen_mm = st->max_pen_mm,
-        .topology_id = 1,
+        .topology_id = a->topology,
         .num_vertex_coords = nv * 3,
         .vertices = a->xyz,
         .num_triangle_indices = with_tris ? nt * 3 : 0,

@@ -106,13 +106,22 @@ static void finish(run *r, int status, pid_t extra)
 typedef struct seen {
     char garment[64];
     int cloth;
+    int32_t topology, first_topology;
+    int first_of_garment_has_triangles; /* of the latest garment's first CLOTH */
 } seen;
 
 static void on_cloth(const char *ch, const void *m, void *user)
 {
     (void)ch;
     seen *s = user;
-    snprintf(s->garment, sizeof s->garment, "%s", ((const tryon_cloth_t *)m)->garment_id);
+    const tryon_cloth_t *c = m;
+    if (strcmp(s->garment, c->garment_id) != 0) /* a garment's first frame: the mirror needs its
+                                                   triangles at once, under a new topology */
+        s->first_of_garment_has_triangles = c->num_triangle_indices > 0;
+    if (s->cloth == 0)
+        s->first_topology = c->topology_id;
+    snprintf(s->garment, sizeof s->garment, "%s", c->garment_id);
+    s->topology = c->topology_id;
     s->cloth++;
 }
 
@@ -190,6 +199,8 @@ static void test_control_switches_garment_and_ctrl_c_stops_all(void **state)
         lcm_handle_timeout(lcm, 50);
     print_message("switched after %d more CLOTH messages\n", s.cloth - before);
     assert_string_equal(s.garment, "tunic L denim");
+    assert_true(s.first_of_garment_has_triangles);
+    assert_true(s.topology != s.first_topology);
     assert_int_equal(kill(r.launcher, SIGINT), 0); /* Ctrl-C */
     int st = ts_wait(r.launcher, 10000);
     char *log = ts_read_file(r.out);
