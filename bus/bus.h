@@ -75,6 +75,9 @@ typedef struct bus_reject {
 #define BUS_MAX_SUBSTAGES  64
 #define BUS_MAX_STRING     256
 #define BUS_MAX_COORD_M    1000.0f /* no tryon geometry is a kilometre from the origin */
+/* Timestamps (us since the epoch or since boot) stay below 2^52 us (year 2112), so any
+ * difference of two of them is far from overflowing int64 and exact as a double. */
+#define BUS_MAX_UTIME_US (INT64_C(1) << 52)
 
 typedef enum bus_type { BUS_DEPTH_FRAME, BUS_BODY, BUS_CLOTH, BUS_TIMING, BUS_TYPE_COUNT } bus_type;
 const char *bus_type_name(bus_type t);

@@ -145,6 +145,11 @@ static bus_error wire_walk(const wire_field *f, const uint8_t *buf, size_t len, 
                                       (long long)f->size);
             count[f->slot] = n;
         } else if (f->op == W_ARRAY) {
+            /* lcm-gen decodes a byte array with memcpy into a pointer it leaves NULL for an empty
+             * array; memcpy(NULL, p, 0) is undefined behaviour (the sanitizer build aborts), and
+             * no message of ours carries an empty byte array, so it is refused here. */
+            if (f->size == 1 && count[f->slot] == 0)
+                return bus_reject_set(why, BUS_ERR_COUNT, "%s: empty byte array", f->name);
             need = (size_t)(count[f->slot] * f->size);
             if (len - pos < need)
                 return bus_reject_set(why, BUS_ERR_TRUNCATED, "%s: %zu bytes needed, %zu left",
