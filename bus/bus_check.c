@@ -33,11 +33,21 @@ int main(int argc, char **argv)
 {
     const char *url = argc > 1 ? argv[1] : NULL;
     if (url && (strcmp(url, "-h") == 0 || strcmp(url, "--help") == 0)) {
-        printf("usage: tryon-bus-check [LCM_URL]\n"
+        printf("usage: tryon-bus-check [LCM_URL] | --print-url\n"
                "Sends one 640x480 depth frame to itself over LCM (default: $TRYON_LCM_URL or %s)"
-               "\nand says whether it arrived intact.\n",
+               "\nand says whether it arrived intact.\n"
+               "  --print-url  print the URL the stages use here and exit (for lcm-logger)\n",
                BUS_DEFAULT_URL);
         return 0;
+    }
+    if (url && strcmp(url, "--print-url") == 0 && argc == 2) {
+        printf("%s\n", bus_default_url());
+        return 0;
+    }
+    if (argc > 2 || (url && url[0] == '-')) {
+        fprintf(stderr, "tryon-bus-check: unknown option %s (see --help)\n",
+                argv[argc > 2 ? 2 : 1]);
+        return 2;
     }
     char err[512];
     lcm_t *lcm = bus_open(url, err, sizeof err);

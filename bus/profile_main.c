@@ -92,9 +92,17 @@ static int live(bus_profile *p, double seconds)
 
 int main(int argc, char **argv)
 {
+    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        usage(stdout);
+        return 0;
+    }
     if (argc != 3 || (strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)) {
-        usage(argc > 1 && strcmp(argv[1], "--help") == 0 ? stdout : stderr);
-        return argc > 1 && strcmp(argv[1], "--help") == 0 ? 0 : 2;
+        if (argc > 1 && strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)
+            fprintf(stderr, "tryon-profile: unknown option %s\n", argv[1]);
+        else if (argc > 3)
+            fprintf(stderr, "tryon-profile: unexpected argument %s\n", argv[3]);
+        usage(stderr);
+        return 2;
     }
     bus_profile *p = bus_profile_create();
     if (!p)

@@ -62,10 +62,10 @@ static int cpu_ticks(unsigned long long *total, unsigned long long *steal)
     return 0;
 }
 
-static void usage(void)
+static void usage(FILE *f)
 {
     fprintf(
-        stderr,
+        f,
         "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
         "[--frames F]\n"
         "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
@@ -103,8 +103,13 @@ static int parse(int argc, char **argv, bench_opts *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int used = 1;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 1;
+        }
         if (!v && strcmp(a, "--no-ref") != 0 && strcmp(a, "--window-ref") != 0) {
-            usage();
+            fprintf(stderr, "tryon-bench-sim: %s needs a value\n", a);
+            usage(stderr);
             return -1;
         }
         if (strcmp(a, "--scene") == 0)
@@ -162,7 +167,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->window_ref = 1;
             used = 0;
         } else {
-            usage();
+            fprintf(stderr, "tryon-bench-sim: unknown option or bad value: %s %s\n", a, v);
+            usage(stderr);
             return -1;
         }
         i += used;
@@ -170,7 +176,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     int body = strcmp(o->scene, "body") == 0;
     if ((!body && strcmp(o->scene, "drape") != 0) || o->window_frames < 1 ||
         o->window_frames > BENCH_REF_EVERY) {
-        usage();
+        usage(stderr);
         return -1;
     }
     if (o->frames <= 0)
@@ -670,8 +676,9 @@ static void write_csv(const char *path, const bench_run *r, int frames)
 int main(int argc, char **argv)
 {
     bench_opts o;
-    if (parse(argc, argv, &o) < 0)
-        return 2;
+    int pr = parse(argc, argv, &o);
+    if (pr != 0)
+        return pr > 0 ? 0 : 2;
     mkdir(o.cache_dir, 0755);
     if (o.compare_ref > 0)
         return compare_refs(&o);

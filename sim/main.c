@@ -232,9 +232,9 @@ static void step_body(app *a)
     a->frames_done++;
 }
 
-static int usage(void)
+static int usage(FILE *f, int rc)
 {
-    fprintf(stderr,
+    fprintf(f,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M]\n"
@@ -250,7 +250,7 @@ static int usage(void)
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
-    return 2;
+    return rc;
 }
 
 static int parse(app *a, int argc, char **argv)
@@ -261,8 +261,12 @@ static int parse(app *a, int argc, char **argv)
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!v)
+        if (!strcmp(o, "--help") || !strcmp(o, "-h"))
+            return 1;
+        if (!v) {
+            fprintf(stderr, "tryon-sim: %s needs a value\n", o);
             return -1;
+        }
         if (!strcmp(o, "--backend") &&
             (!strcmp(v, "c") || !strcmp(v, "opencl") || !strcmp(v, "auto"))) {
             a->backend_auto = !strcmp(v, "auto");
@@ -285,8 +289,10 @@ static int parse(app *a, int argc, char **argv)
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
             a->every_body = !strcmp(v, "all");
-        else
+        else {
+            fprintf(stderr, "tryon-sim: unknown option or bad value: %s %s\n", o, v);
             return -1;
+        }
         i++;
     }
     return 0;
@@ -295,8 +301,9 @@ static int parse(app *a, int argc, char **argv)
 int main(int argc, char **argv)
 {
     app a = {0};
-    if (parse(&a, argc, argv) < 0)
-        return usage();
+    int pr = parse(&a, argc, argv);
+    if (pr != 0)
+        return pr > 0 ? usage(stdout, 0) : usage(stderr, 2);
     char err[512], channel_body[BUS_CHANNEL_MAX];
     a.lcm = bus_open(NULL, err, sizeof err);
     if (!a.lcm) {
