@@ -18,7 +18,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
     libfreenect-dev libfreenect-bin libopenni2-dev
     clang-format gnuplot-nox libbullet-dev
-    clang-14 libclang-rt-14-dev)
+    clang-14 libclang-rt-14-dev libsodium-dev)
 
 as_root() {
     if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi

@@ -51,7 +51,8 @@ static int from_log(bus_profile *p, const char *path)
         if (ends_with(ev->channel, BUS_CHANNEL_TIMING)) {
             tryon_timing_t t;
             bus_reject why;
-            if (bus_decode(BUS_TIMING, ev->data, (size_t)ev->datalen, &t, &why) == BUS_OK) {
+            if (bus_decode_sealed(BUS_TIMING, ev->channel, ev->data, (size_t)ev->datalen, &t,
+                                  &why) == BUS_OK) {
                 used += bus_profile_add(p, &t) == 0;
                 bus_msg_free(BUS_TIMING, &t);
             } else if (rejected++ < 5) {
