@@ -1,5 +1,6 @@
 /* A running tryon-sim under hostile BODY traffic (a private loopback bus): first bodies that
- * cannot carry the garment (no joints and four vertices, more vertices than the sim takes) are
+ * cannot carry the garment (four vertices without joints, a tetrahedron with a skeleton, more
+ * vertices than the sim takes) are
  * refused and the process waits; then every valid body is served while strays with new
  * topologies, other triangles for the live topology and malformed bytes arrive between them. */
 #include <setjmp.h>
@@ -36,10 +37,16 @@ static void on_cloth(const char *ch, const void *m, void *user)
         s->seq_seen[c->seq] = 1;
 }
 
+static float joints21[21 * 3]; /* bodyfit's 21 joints, for the bodies that carry some */
+static float tetra_body[4 * 3];
+static int with_joints;
+
 static void send(lcm_t *lcm, const char *ch, int32_t seq, int32_t topology, const float *xyz,
                  int nv, const int32_t *tris, int nt)
 {
     tryon_body_t b = {.utime_capture = bus_now_wall_us(),
+                      .num_joint_coords = with_joints ? 21 * 3 : 0,
+                      .joints = joints21,
                       .seq = seq,
                       .state = 1,
                       .topology_id = topology,
@@ -83,6 +90,21 @@ static void test_sim_serves_every_valid_body_under_hostile_traffic(void **state)
     assert_non_null(huge);
     for (int i = 0; i < HUGE_VERTS; i++)
         huge[i * 3 + 1] = 1.0f + 1e-5f * (float)i;
+    {
+        char e[128];
+        sim_scene *person = sim_scene_body("still", 2000, e, sizeof e);
+        assert_non_null(person);
+        const float *pj, *px;
+        const int32_t *pt;
+        int pnv, pnt;
+        sim_scene_eval(person, 0.0, &px, &pnv, &pt, &pnt, &pj);
+        assert_non_null(pj);
+        memcpy(joints21, pj, sizeof joints21);
+        for (int k = 0; k < 4; k++) /* the tetrahedron around the chest */
+            for (int d = 0; d < 3; d++)
+                tetra_body[k * 3 + d] = pj[6 * 3 + d] + 2.0f * (tetra_xyz[k * 3 + d] - (d == 1));
+        sim_scene_destroy(person);
+    }
 
     /* Until the process listens, bodies are lost: the hostile first bodies are sent again and
      * again until a valid one comes back as cloth, which proves they did not end the process. */
@@ -90,6 +112,9 @@ static void test_sim_serves_every_valid_body_under_hostile_traffic(void **state)
     for (int tries = 0; sv.cloth == 0 && tries < 100; tries++) {
         send(lcm, ch_body, seq++, 9, tetra_xyz, 4, tetra_tris, 4); /* 4 vertices, no joints */
         send(lcm, ch_body, seq++, 8, huge, HUGE_VERTS, tetra_tris, 4);
+        with_joints = 1; /* a tetrahedron with a skeleton: a garment is made, on nothing */
+        send(lcm, ch_body, seq++, 10, tetra_body, 4, tetra_tris, 4);
+        with_joints = 0;
         lcm_handle_timeout(lcm, 50);
         if (tries >= 5) /* then a body that can carry the garment */
             send(lcm, ch_body, seq++, 1, xyz, nv, tris, nt);
