@@ -1,8 +1,8 @@
 /* A running tryon-sim under hostile BODY traffic (a private loopback bus): first bodies that
  * cannot carry the garment (four vertices without joints, a tetrahedron with a skeleton, more
- * vertices than the sim takes) are
- * refused and the process waits; then every valid body is served while strays with new
- * topologies, other triangles for the live topology and malformed bytes arrive between them. */
+ * vertices than the sim takes) are refused and the process waits; then every valid body is
+ * served while strays with new topologies, other triangles for the live topology and malformed
+ * bytes arrive between them. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
