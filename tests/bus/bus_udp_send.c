@@ -17,8 +17,15 @@
 
 int main(int argc, char **argv)
 {
+    static const char usage[] = "usage: bus_udp_send ADDRESS PORT CHANNEL SEQ sign|plain\n";
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        fputs(usage, stdout);
+        return 0;
+    }
     if (argc != 6 || (strcmp(argv[5], "sign") != 0 && strcmp(argv[5], "plain") != 0)) {
-        fprintf(stderr, "usage: bus_udp_send ADDRESS PORT CHANNEL SEQ sign|plain\n");
+        if (argc > 1 && argv[1][0] == '-')
+            fprintf(stderr, "bus_udp_send: unknown option %s\n", argv[1]);
+        fputs(usage, stderr);
         return 2;
     }
     fx_body b;
