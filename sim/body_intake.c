@@ -98,6 +98,8 @@ int sim_topologies_intake(sim_topologies *t, int32_t id, int nv, const int32_t *
         }
     }
     s->used_us = now_us;
+    if (t->has_live && id == t->live_id && pinned(t, id, now_us))
+        t->live_us = now_us; /* its sender is alive */
     *out = s;
     return 0;
 }

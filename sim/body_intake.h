@@ -11,9 +11,11 @@
 /* Triangle lists kept at once. Memory held: at most SIM_TOPOLOGY_SLOTS * max_triangles * 12
  * bytes (4 slots of sim_desc's 200,000 triangles: 9.6 MB), whatever arrives. */
 #define SIM_TOPOLOGY_SLOTS 4
-/* The live topology (the one the last simulated body used) stays pinned this long after its
- * last use: while its sender is alive no other list can replace it (1 s: 30 frames). */
-#define SIM_TOPOLOGY_LIVE_US 1000000
+/* The live topology (the one the garment was last simulated on) stays pinned this long after
+ * the last body that used it arrived or was simulated: while its sender is alive no other list
+ * can replace it (2 s: 60 frames, time for a loaded machine to fall behind; a sender whose
+ * topology really changed waits that long for a garment of its own). */
+#define SIM_TOPOLOGY_LIVE_US 2000000
 
 typedef struct sim_topology {
     int32_t id;
