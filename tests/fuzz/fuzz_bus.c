@@ -1,6 +1,6 @@
 /* libFuzzer harness: one LCM message type (FUZZ_BUS_TYPE) through the wire walk, lcm-gen's
- * decoder and validation, as every subscriber receives it. A message that passes is encoded
- * again and must decode to the same bytes' length. */
+ * decoder and validation, as every subscriber receives it (after its tag is checked). A message
+ * that passes must validate again. */
 #include <stdint.h>
 #include <stdlib.h>
 
