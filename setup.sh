@@ -18,6 +18,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
     libfreenect-dev libfreenect-bin libopenni2-dev
     clang-format gnuplot-nox libbullet-dev
+    clang-14 libclang-rt-14-dev libsodium-dev
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libsdl2-dev libpng-dev
     xvfb xauth ffmpeg)
 
@@ -90,6 +91,15 @@ if [ "$mode" = test ]; then
     build build-asan -DCMAKE_BUILD_TYPE=Debug -DTRYON_SANITIZE=ON
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 600
+    echo "== fuzzing: every libFuzzer harness for 6 s (tests/fuzz/run.sh; docs/building.md)"
+    mkdir -p build-fuzz
+    CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DTRYON_FUZZ=ON \
+        >build-fuzz.configure.log 2>&1 || {
+        cat build-fuzz.configure.log
+        exit 1
+    }
+    cmake --build build-fuzz -j"$jobs" --target fuzz_all
+    tests/fuzz/run.sh 6 build-fuzz
     exit 0
 fi
 

@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #define BENCH_WARMUP 50
@@ -66,8 +67,20 @@ static int run_scene(int target, int runs, result *r)
     return 0;
 }
 
+#define USAGE                                                                                      \
+    "usage: tryon-bench-skin [RUNS]\n  RUNS  skinning runs per body size (default 2000, at least " \
+    "10)\n"
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        fputs(USAGE, stdout);
+        return 0;
+    }
+    if (argc > 2 || (argc > 1 && argv[1][0] == '-')) {
+        fprintf(stderr, "tryon-bench-skin: unknown option %s\n" USAGE, argv[argc > 2 ? 2 : 1]);
+        return 2;
+    }
     int runs = argc > 1 ? atoi(argv[1]) : 2000;
     if (runs < 10) {
         fprintf(stderr, "tryon-bench-skin: RUNS must be at least 10\n");

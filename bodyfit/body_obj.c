@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double now_s(void)
@@ -15,8 +16,19 @@ static double now_s(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) {
-        fprintf(stderr, "usage: %s OUT.obj [PRESET 0..2] [MOTION] [TIME_S] [TARGET]\n", argv[0]);
+    static const char usage[] =
+        "usage: tryon-body-obj OUT.obj [PRESET 0..2] [MOTION] [TIME_S] [TARGET_VERTICES]\n";
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    for (int i = 1; i < argc; i++)
+        if (argv[i][0] == '-' && i != 4) { /* TIME_S may be negative; nothing else may */
+            fprintf(stderr, "tryon-body-obj: unknown option %s\n%s", argv[i], usage);
+            return 2;
+        }
+    if (argc < 2 || argc > 6) {
+        fputs(usage, stderr);
         return 2;
     }
     int preset = argc > 2 ? atoi(argv[2]) : 0;

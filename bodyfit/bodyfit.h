@@ -113,7 +113,7 @@ int fit_motion_from_name(const char *name); /* -1 if unknown */
 double fit_motion_duration(fit_motion m);   /* seconds; motions loop after this */
 void fit_motion_eval(fit_motion m, double t_s, fit_pose *out);
 
-/* ---- Additions (bodyfit owner): errors, validation, measurement, skin weights. ---- */
+/* ---- Errors, validation, measurement, skin weights. ---- */
 
 /* Errors as values; one list makes the enum and the messages so a test can name the rejection. */
 #define FIT_ERROR_LIST(X)                                                                          \

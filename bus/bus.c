@@ -23,6 +23,8 @@ lcm_t *bus_open(const char *url, char *err, size_t err_size)
 {
     if (!url)
         url = bus_default_url();
+    if (bus_key_load(err, err_size) != 0)
+        return NULL;
     lcm_t *lcm = lcm_create(url);
     if (lcm)
         return lcm;

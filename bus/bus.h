@@ -56,7 +56,8 @@ int64_t bus_now_wall_us(void);
     X(BUS_ERR_INDEX, "triangle index out of range")                                                \
     X(BUS_ERR_NO_MEMORY, "out of memory")                                                          \
     X(BUS_ERR_PUBLISH, "LCM could not send the message")                                           \
-    X(BUS_ERR_TYPE, "unknown message type")
+    X(BUS_ERR_TYPE, "unknown message type")                                                        \
+    X(BUS_ERR_AUTH, "not signed with this host's bus key")
 
 #define BUS_ERROR_ENUM(id, text) id,
 typedef enum bus_error { BUS_ERROR_LIST(BUS_ERROR_ENUM) BUS_ERROR_COUNT } bus_error;
@@ -77,6 +78,9 @@ typedef struct bus_reject {
 #define BUS_MAX_SUBSTAGES  64
 #define BUS_MAX_STRING     256
 #define BUS_MAX_COORD_M    1000.0f /* no tryon geometry is a kilometre from the origin */
+/* Timestamps (us since the epoch or since boot) stay below 2^52 us (year 2112), so any
+ * difference of two of them is far from overflowing int64 and exact as a double. */
+#define BUS_MAX_UTIME_US (INT64_C(1) << 52)
 
 typedef enum bus_type {
     BUS_DEPTH_FRAME,
@@ -95,6 +99,25 @@ bus_error bus_validate(bus_type t, const void *msg, bus_reject *why);
  * success it owns memory to be released with bus_msg_free. On failure nothing needs freeing. */
 bus_error bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_reject *why);
 void bus_msg_free(bus_type t, void *msg);
+/* Every message on the bus ends with a BUS_TAG_BYTES tag: keyed BLAKE2b of the channel name and
+ * the payload, with the key in $TRYON_BUS_KEY_FILE, else $XDG_RUNTIME_DIR/tryon-bus.key, else
+ * ~/.cache/tryon/bus.key (made 0600 on first use; refused if others can read it). Messages
+ * without a valid tag (another machine's, or anyone's without the key) are refused as
+ * BUS_ERR_AUTH. bus_open loads the key; lcm-logger logs keep the tags, replays verify them. */
+#define BUS_TAG_BYTES 32
+int bus_key_load(char *err, size_t err_size); /* 0, or -1 with the reason in err */
+const char *bus_key_path(void);
+/* Writes the tag of buf[0..len) on channel at buf[len] (room for BUS_TAG_BYTES needed). */
+bus_error bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why);
+/* Checks the tag at the end of buf; *payload_len = len - BUS_TAG_BYTES on success. */
+bus_error bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t *payload_len,
+                     bus_reject *why);
+/* Unseal, then bus_decode: what a subscriber or a log reader does with one event. */
+bus_error bus_decode_sealed(bus_type t, const char *channel, const void *buf, size_t len, void *msg,
+                            bus_reject *why);
+/* Seals and sends payload bytes as they are (tests, tools that forward encoded messages). */
+bus_error bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, size_t len,
+                          bus_reject *why);
 /* Validate, then publish. A message that fails validation is not sent. */
 bus_error bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *msg,
                       bus_reject *why);

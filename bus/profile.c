@@ -85,27 +85,35 @@ static int reserve_samples(stage_samples *s)
     return 0;
 }
 
+/* Names are stored cut to 31 characters, so they are compared cut the same way: a long name
+ * finds its own slot again instead of taking a new one on every report. */
+#define NAME_KEY 32
+
 static stage_samples *find_stage(bus_profile *p, const char *name)
 {
+    char key[NAME_KEY];
+    snprintf(key, sizeof key, "%s", name);
     for (int i = 0; i < p->num_stages; i++)
-        if (strcmp(p->stages[i].name, name) == 0)
+        if (strcmp(p->stages[i].name, key) == 0)
             return &p->stages[i];
     if (p->num_stages == BUS_PROFILE_MAX_STAGES)
         return NULL;
     stage_samples *s = &p->stages[p->num_stages++];
-    snprintf(s->name, sizeof s->name, "%s", name);
+    snprintf(s->name, sizeof s->name, "%s", key);
     return s;
 }
 
 static int add_substage(stage_samples *s, const char *name, double ms)
 {
+    char key[NAME_KEY];
+    snprintf(key, sizeof key, "%s", name);
     int k = 0;
-    while (k < s->num_sub && strcmp(s->sub[k], name) != 0)
+    while (k < s->num_sub && strcmp(s->sub[k], key) != 0)
         k++;
     if (k == s->num_sub) {
         if (k == BUS_MAX_SUBSTAGES)
             return 0;
-        snprintf(s->sub[k], sizeof s->sub[k], "%s", name);
+        snprintf(s->sub[k], sizeof s->sub[k], "%s", key);
         s->num_sub++;
     }
     if (grow((void **)&s->sub_ms[k], &s->sub_cap[k], s->sub_n[k] + 1, sizeof(double)) != 0)
@@ -180,12 +188,17 @@ static int count_dropped(const int32_t *seq, int n)
     }
     memcpy(c, seq, (size_t)n * sizeof *c);
     qsort(c, (size_t)n, sizeof *c, cmp_i32);
-    int unique = 1;
-    for (int i = 1; i < n; i++)
-        unique += c[i] != c[i - 1];
-    int dropped = (int)((int64_t)c[n - 1] - c[0] + 1 - unique);
+    /* Only gaps up to BUS_PROFILE_MAX_GAP count as drops: a larger jump is a stage that
+     * restarted its numbering (or one stray report), and one report must not claim billions of
+     * lost frames. */
+    int64_t dropped = 0;
+    for (int i = 1; i < n; i++) {
+        int64_t gap = (int64_t)c[i] - c[i - 1] - 1;
+        if (gap > 0 && gap <= BUS_PROFILE_MAX_GAP)
+            dropped += gap;
+    }
     free(c);
-    return dropped;
+    return dropped > INT32_MAX ? INT32_MAX : (int)dropped;
 }
 
 static void stage_stats(const stage_samples *s, bus_stage_stats *o)

@@ -8,11 +8,13 @@
 #include "bus.h"
 
 #define BUS_PROFILE_MAX_STAGES 16
+/* Sequence gaps larger than this (frames) are a restart, not drops (30 s at 30 fps). */
+#define BUS_PROFILE_MAX_GAP 900
 
 typedef struct bus_stage_stats {
     char stage[32];
     int frames;
-    int dropped; /* sequence numbers missing between the first and the last seen */
+    int dropped; /* sequence numbers missing in gaps of at most BUS_PROFILE_MAX_GAP */
     double fps;  /* frames per second of wall clock between the first and last finish */
     double work_p50_ms, work_p95_ms, work_p99_ms, work_max_ms; /* finished - started */
     double lat_p50_ms, lat_p95_ms, lat_p99_ms, lat_max_ms;     /* finished - utime_capture */

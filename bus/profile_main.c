@@ -51,7 +51,8 @@ static int from_log(bus_profile *p, const char *path)
         if (ends_with(ev->channel, BUS_CHANNEL_TIMING)) {
             tryon_timing_t t;
             bus_reject why;
-            if (bus_decode(BUS_TIMING, ev->data, (size_t)ev->datalen, &t, &why) == BUS_OK) {
+            if (bus_decode_sealed(BUS_TIMING, ev->channel, ev->data, (size_t)ev->datalen, &t,
+                                  &why) == BUS_OK) {
                 used += bus_profile_add(p, &t) == 0;
                 bus_msg_free(BUS_TIMING, &t);
             } else if (rejected++ < 5) {
@@ -92,9 +93,17 @@ static int live(bus_profile *p, double seconds)
 
 int main(int argc, char **argv)
 {
+    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        usage(stdout);
+        return 0;
+    }
     if (argc != 3 || (strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)) {
-        usage(argc > 1 && strcmp(argv[1], "--help") == 0 ? stdout : stderr);
-        return argc > 1 && strcmp(argv[1], "--help") == 0 ? 0 : 2;
+        if (argc > 1 && strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)
+            fprintf(stderr, "tryon-profile: unknown option %s\n", argv[1]);
+        else if (argc > 3)
+            fprintf(stderr, "tryon-profile: unexpected argument %s\n", argv[3]);
+        usage(stderr);
+        return 2;
     }
     bus_profile *p = bus_profile_create();
     if (!p)

@@ -32,7 +32,7 @@ static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
     bus_sub *s = user;
     bus_any_msg msg;
     bus_reject why = {0};
-    bus_error e = bus_decode(s->type, rbuf->data, rbuf->data_size, &msg, &why);
+    bus_error e = bus_decode_sealed(s->type, channel, rbuf->data, rbuf->data_size, &msg, &why);
     if (e != BUS_OK) {
         s->stats.rejected++;
         s->stats.rejected_by[e]++;

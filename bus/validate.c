@@ -149,6 +149,12 @@ static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)
     e = check_floats(m->substage_ms, m->num_substages, 0, "substage_ms", 1, why);
     if (e != BUS_OK)
         return e;
+    const int64_t stamps[4] = {m->utime_capture, m->utime_received, m->utime_started,
+                               m->utime_finished};
+    for (int i = 0; i < 4; i++)
+        if (stamps[i] < 0 || stamps[i] > BUS_MAX_UTIME_US)
+            return bus_reject_set(why, BUS_ERR_RANGE, "timestamp %d = %lld us (0..%lld)", i,
+                                  (long long)stamps[i], (long long)BUS_MAX_UTIME_US);
     if (m->utime_finished < m->utime_started)
         return bus_reject_set(why, BUS_ERR_RANGE, "finished %lld before started %lld",
                               (long long)m->utime_finished, (long long)m->utime_started);

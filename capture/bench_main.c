@@ -59,14 +59,22 @@ int main(int argc, char **argv)
 {
     int want = 0;
     double timeout_s = 60.0;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--frames"))
+    static const char usage[] = "usage: tryon-bench-capture --frames N [--timeout S]\n";
+    for (int i = 1; i < argc; i += 2) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (i + 1 < argc && !strcmp(argv[i], "--frames")) {
             want = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--timeout"))
+        } else if (i + 1 < argc && !strcmp(argv[i], "--timeout")) {
             timeout_s = atof(argv[i + 1]);
+        } else {
+            fprintf(stderr, "tryon-bench-capture: unknown option %s\n%s", argv[i], usage);
+            return 2;
+        }
     }
     if (want <= 0 || want > MAX_FRAMES || !(timeout_s > 0.0)) {
-        fprintf(stderr, "usage: tryon-bench-capture --frames N [--timeout S]\n");
+        fputs(usage, stderr);
         return 2;
     }
     char err[512], ch[BUS_CHANNEL_MAX];

@@ -1,4 +1,4 @@
-/* The solver kernels, twins of sim/springs.c (SIM-A's C functions): same names, same order of
+/* The solver kernels, twins of sim/springs.c: same names, same order of
  * operations, one work-item per vertex or spring. sim_iterations_tryon runs a whole frame of the
  * tryon solver in ONE work-group, with barriers between the passes instead of kernel launches:
  * on PoCL a launch costs 10-50 us and a frame has about 30 passes x 25 iterations. */

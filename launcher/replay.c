@@ -72,7 +72,7 @@ static void scan(const char *ch, const uint8_t *d, uint32_t n, void *user)
         return;
     tryon_timing_t m;
     bus_reject why;
-    if (bus_decode(BUS_TIMING, d, n, &m, &why) == BUS_OK) {
+    if (bus_decode_sealed(BUS_TIMING, ch, d, n, &m, &why) == BUS_OK) {
         bus_profile_add(r->profile, &m);
         bus_msg_free(BUS_TIMING, &m);
     }

@@ -193,9 +193,13 @@ int main(int argc, char **argv)
             t.max_frames = parse_count(argv[++i]);
         else if (strcmp(argv[i], "--triangles-every") == 0 && i + 1 < argc)
             t.triangles_every = parse_count(argv[++i]);
-        else {
-            usage(strcmp(argv[i], "--help") == 0 ? stdout : stderr);
-            return strcmp(argv[i], "--help") == 0 ? 0 : 2;
+        else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else {
+            fprintf(stderr, "tryon-truth: unknown option or missing value: %s\n", argv[i]);
+            usage(stderr);
+            return 2;
         }
     }
     if (!dir || t.triangles_every < 1 || t.max_frames < 0) {

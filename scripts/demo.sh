@@ -61,7 +61,7 @@ wait_line() { # FILE TEXT: until a process says it listens (10 s at most)
 }
 
 rm -f "$log"
-lcm-logger --quiet --channel "${TRYON_CHANNEL_PREFIX}.*" ${TRYON_LCM_URL:+--lcm-url="$TRYON_LCM_URL"} \
+scripts/bus_logger.sh "$(bin tryon-bus-check)" --quiet --channel "${TRYON_CHANNEL_PREFIX}.*" \
     "$log" >"$out/logger.txt" 2>&1 &
 pids+=($!)
 "$(bin tryon-sim)" --backend "$backend" --frames "$frames" --retry-budget "$retry_budget" \

@@ -62,8 +62,14 @@ int main(int argc, char **argv)
             bad = parse_int(v, 1, 1000, &substeps);
         else if (!strcmp(argv[i], "--margin-mm"))
             bad = parse_int(v, 1, 1000, &margin_mm);
-        else
+        else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            printf("usage: tryon-bench-bullet [--verts N] [--iterations K] [--frames F] "
+                   "[--substeps S] [--margin-mm M]\n");
+            return 0;
+        } else {
+            fprintf(stderr, "tryon-bench-bullet: unknown option %s\n", argv[i]);
             bad = -1;
+        }
         if (bad) {
             fprintf(stderr, "usage: tryon-bench-bullet [--verts N] [--iterations K] [--frames F] "
                             "[--substeps S] [--margin-mm M]\n");

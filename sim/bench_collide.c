@@ -161,15 +161,20 @@ int main(int argc, char **argv)
 {
     int frames = 60, npts = 7000;
     const char *motion_name = "fast_swing";
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--frames"))
+    static const char usage[] =
+        "usage: tryon-bench-collide [--frames F] [--points N] [--motion M]\n";
+    for (int i = 1; i < argc; i += 2) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (i + 1 < argc && !strcmp(argv[i], "--frames")) {
             frames = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--points"))
+        } else if (i + 1 < argc && !strcmp(argv[i], "--points")) {
             npts = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--motion"))
+        } else if (i + 1 < argc && !strcmp(argv[i], "--motion")) {
             motion_name = argv[i + 1];
-        else {
-            fprintf(stderr, "usage: tryon-bench-collide [--frames F] [--points N] [--motion M]\n");
+        } else {
+            fprintf(stderr, "tryon-bench-collide: unknown option %s\n%s", argv[i], usage);
             return 2;
         }
     }

@@ -62,10 +62,10 @@ static int cpu_ticks(unsigned long long *total, unsigned long long *steal)
     return 0;
 }
 
-static void usage(void)
+static void usage(FILE *f)
 {
     fprintf(
-        stderr,
+        f,
         "usage: tryon-bench-sim [--scene drape|body] [--verts N] [--iterations K] "
         "[--frames F]\n"
         "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
@@ -78,7 +78,8 @@ static void usage(void)
         "         [--strain-limit S (the clamp, default 0.0075)]\n"
         "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
         "         [--retry-budget MS (those retries only within MS a frame; 0: no budget)]\n"
-        "         [--csv FILE] [--cache-dir DIR] [--no-ref]\n"
+        "         [--csv FILE] [--cache-dir DIR (default $TRYON_CACHE_DIR, $XDG_CACHE_HOME/tryon\n"
+        "          or ~/.cache/tryon)] [--no-ref]\n"
         "         [--ref-iterations N (default %d)] [--compare-ref M] [--window-ref]\n"
         "         [--window-frames W (1..%d)]\n"
         "--window-ref: also the error to references restarted from the run's own state\n"
@@ -86,6 +87,41 @@ static void usage(void)
         "--compare-ref M: only the RMS (mm) between the references of N and M iterations,\n"
         "                 in all and per motion (each computed once into the cache)\n",
         BENCH_BODY_VERTS, BENCH_REF_ITERATIONS, BENCH_REF_EVERY, BENCH_REF_EVERY, BENCH_REF_EVERY);
+}
+
+/* The reference caches live in the user's cache directory, never in the current one (a run
+ * from the repository would leave untracked files): $TRYON_CACHE_DIR, else
+ * $XDG_CACHE_HOME/tryon, else $HOME/.cache/tryon; --cache-dir overrides all. */
+static const char *default_cache_dir(void)
+{
+    static char dir[512];
+    const char *env = getenv("TRYON_CACHE_DIR"), *xdg = getenv("XDG_CACHE_HOME");
+    const char *home = getenv("HOME");
+    if (env && env[0])
+        snprintf(dir, sizeof dir, "%s", env);
+    else if (xdg && xdg[0] == '/')
+        snprintf(dir, sizeof dir, "%s/tryon", xdg);
+    else if (home && home[0] == '/')
+        snprintf(dir, sizeof dir, "%s/.cache/tryon", home);
+    else
+        return NULL;
+    return dir;
+}
+
+/* mkdir -p: every missing parent of dir, then dir. Returns 0 when dir exists afterwards. */
+static int make_dirs(const char *dir)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s", dir);
+    for (char *c = p + 1; *c; c++)
+        if (*c == '/') {
+            *c = 0;
+            mkdir(p, 0755);
+            *c = '/';
+        }
+    mkdir(p, 0755);
+    struct stat st;
+    return stat(p, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -98,13 +134,18 @@ static int parse(int argc, char **argv, bench_opts *o)
                       .frames = 0,
                       .group = 10,
                       .window_frames = BENCH_REF_EVERY,
-                      .cache_dir = "."};
+                      .cache_dir = default_cache_dir()};
     o->desc = sim_default_desc();
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int used = 1;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 1;
+        }
         if (!v && strcmp(a, "--no-ref") != 0 && strcmp(a, "--window-ref") != 0) {
-            usage();
+            fprintf(stderr, "tryon-bench-sim: %s needs a value\n", a);
+            usage(stderr);
             return -1;
         }
         if (strcmp(a, "--scene") == 0)
@@ -162,15 +203,21 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->window_ref = 1;
             used = 0;
         } else {
-            usage();
+            fprintf(stderr, "tryon-bench-sim: unknown option or bad value: %s %s\n", a, v);
+            usage(stderr);
             return -1;
         }
         i += used;
     }
     int body = strcmp(o->scene, "body") == 0;
+    if (!o->cache_dir) {
+        fprintf(stderr, "tryon-bench-sim: no cache directory: set HOME, TRYON_CACHE_DIR or "
+                        "--cache-dir DIR\n");
+        return -1;
+    }
     if ((!body && strcmp(o->scene, "drape") != 0) || o->window_frames < 1 ||
         o->window_frames > BENCH_REF_EVERY) {
-        usage();
+        usage(stderr);
         return -1;
     }
     if (o->frames <= 0)
@@ -670,9 +717,13 @@ static void write_csv(const char *path, const bench_run *r, int frames)
 int main(int argc, char **argv)
 {
     bench_opts o;
-    if (parse(argc, argv, &o) < 0)
-        return 2;
-    mkdir(o.cache_dir, 0755);
+    int pr = parse(argc, argv, &o);
+    if (pr != 0)
+        return pr > 0 ? 0 : 2;
+    if (o.cache_dir && make_dirs(o.cache_dir) != 0) {
+        fprintf(stderr, "tryon-bench-sim: cannot create the cache directory %s\n", o.cache_dir);
+        return 1;
+    }
     if (o.compare_ref > 0)
         return compare_refs(&o);
     bench_run r;

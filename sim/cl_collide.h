@@ -1,4 +1,4 @@
-/* The collider on an OpenCL device (private to sim/; owner SIM-B): buffers mirroring the host
+/* The collider on an OpenCL device (private to sim/): buffers mirroring the host
  * collider (sim/collide.h) and the kernels of kernels/bvh.cl, feature_points.cl, collide.cl.
  * The tree's topology comes from the host collider once per body topology (its Morton sort and
  * hierarchy are the C reference; the kernel twins are tested against it); per frame the device

@@ -1,4 +1,4 @@
-/* OpenCL host plumbing for the sim (private to sim/; owner SIM-B): device choice, the program
+/* OpenCL host plumbing for the sim (private to sim/): device choice, the program
  * built from the embedded the .cl files of kernels/, kernels by name. Every cl* call is checked.
  *
  * Device choice: TRYON_CL_DEVICE = "P:D" (platform and device index, as `clinfo -l` lists them)

@@ -1,4 +1,4 @@
-/* collide: cloth-body collision for the sim (private to sim/; owner SIM-B).
+/* collide: cloth-body collision for the sim (private to sim/).
  *
  * Seed 000 (Su et al. 2018), per body frame k:
  *   - one LBVH (Karras 2012) over the body triangles, built once per body topology and refitted

@@ -6,7 +6,6 @@
 
 #include "cloth.h"
 
-#define GARMENT_MAX_VERTICES 1000000
 /* A triangle under a square micrometre is no cloth: 1e-12 m^2. */
 #define GARMENT_MIN_AREA_M2 1e-12f
 
@@ -117,7 +116,7 @@ int sim_garment_validate(const sim_garment *g, int body_nt, sim_reject *why)
         if (!(g->mass_kg[i] > 0.0f) || !isfinite(g->mass_kg[i]))
             return sim_reject_set(why, SIM_ERR_MASS, "garment vertex %d mass %g kg", i,
                                   g->mass_kg[i]);
-    if (g->grid_w != 0 && (g->grid_w < 2 || g->grid_h < 2 || g->grid_w * g->grid_h != nv))
+    if (g->grid_w != 0 && (g->grid_w < 2 || g->grid_h < 2 || (int64_t)g->grid_w * g->grid_h != nv))
         return sim_reject_set(why, SIM_ERR_PARAM, "garment grid %d x %d != %d vertices", g->grid_w,
                               g->grid_h, nv);
     if (g->num_attachments < 0 || (g->num_attachments > 0 && !g->attachments))

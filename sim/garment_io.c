@@ -38,29 +38,52 @@ static int grow(void **p, int *cap, int need, size_t elem)
     return 0;
 }
 
-static int parse_line(sim_garment *g, const char *line, int *vcap, int *tcap)
+/* Reads a whole-number field in lo..hi; anything else (overflow included) is refused. */
+static int read_int(const char **c, long lo, long hi, long *out)
+{
+    char *e;
+    long x = strtol(*c, &e, 10);
+    if (e == *c || x < lo || x > hi)
+        return -1;
+    *out = x;
+    *c = e;
+    return 0;
+}
+
+/* Parses one line into g. Returns 0, -1 (bad line: *what says why) or -2 (out of memory). */
+static int parse_line(sim_garment *g, const char *line, int *vcap, int *tcap, const char **what)
 {
     if (strncmp(line, "# grid ", 7) == 0) {
-        if (sscanf(line + 7, "%d %d", &g->grid_w, &g->grid_h) != 2)
+        const char *c = line + 7;
+        long w, h;
+        *what = "grid: two sizes in 2..GARMENT_MAX_VERTICES expected";
+        if (read_int(&c, 2, GARMENT_MAX_VERTICES, &w) || read_int(&c, 2, GARMENT_MAX_VERTICES, &h))
             return -1;
+        g->grid_w = (int)w;
+        g->grid_h = (int)h;
     } else if (line[0] == 'v' && line[1] == ' ') {
         float p[3];
-        if (sscanf(line + 2, "%f %f %f", &p[0], &p[1], &p[2]) != 3)
+        *what = "vertex: three numbers expected, at most GARMENT_MAX_VERTICES vertices";
+        if (sscanf(line + 2, "%f %f %f", &p[0], &p[1], &p[2]) != 3 ||
+            g->num_vertices >= GARMENT_MAX_VERTICES)
             return -1;
         if (grow((void **)&g->xyz, vcap, (g->num_vertices + 1) * 3, sizeof(float)) < 0)
             return -2;
         memcpy(&g->xyz[g->num_vertices * 3], p, sizeof p);
         g->num_vertices++;
     } else if (line[0] == 'f' && line[1] == ' ') {
-        int v[3], n = 0;
+        int v[3];
         const char *c = line + 2;
-        while (n < 3) {
-            char *e;
-            long x = strtol(c, &e, 10);
-            if (e == c)
+        /* Indices are 1-based and bounded before the int conversion; relative (negative) OBJ
+         * indices are not used by tryon garments. */
+        *what = "face: three indices in 1..GARMENT_MAX_VERTICES expected";
+        if (g->num_triangles >= 2 * GARMENT_MAX_VERTICES)
+            return -1;
+        for (int n = 0; n < 3; n++) {
+            long x;
+            if (read_int(&c, 1, GARMENT_MAX_VERTICES, &x))
                 return -1;
-            v[n++] = (int)x - 1;
-            c = e;
+            v[n] = (int)x - 1;
             while (*c && *c != ' ' && *c != '\t')
                 c++; /* skip /vt/vn */
         }
@@ -82,15 +105,16 @@ int sim_garment_load_obj(const char *path, sim_garment *out, sim_reject *why)
     snprintf(out->id, sizeof out->id, "%s", base ? base + 1 : path);
     char line[512];
     int vcap = 0, tcap = 0, lineno = 0, r = 0;
+    const char *what = "";
     while (r == 0 && fgets(line, sizeof line, f)) {
         lineno++;
-        r = parse_line(out, line, &vcap, &tcap);
+        r = parse_line(out, line, &vcap, &tcap, &what);
     }
     fclose(f);
     if (r < 0) {
         sim_garment_free(out);
-        return sim_reject_set(why, r == -2 ? SIM_ERR_NO_MEMORY : SIM_ERR_FILE,
-                              "%s:%d: cannot parse", path, lineno);
+        return sim_reject_set(why, r == -2 ? SIM_ERR_NO_MEMORY : SIM_ERR_FILE, "%s:%d: %s", path,
+                              lineno, r == -2 ? "out of memory" : what);
     }
     r = sim_garment_validate(out, 0, why);
     if (r < 0) {

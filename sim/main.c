@@ -5,11 +5,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "body_intake.h"
 #include "bus.h"
 #include "sim.h"
 
 #define SIM_MAIN_TRIANGLES_EVERY 30 /* resend the garment's triangles once a second at 30 fps */
 #define SIM_MAIN_JOINTS          21 /* bodyfit's FIT_JOINT_COUNT */
+/* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
+ * body: one made on a body that cannot carry it never recovers. */
+#define SIM_MAIN_DIVERGED_REBUILD 30
 
 static volatile sig_atomic_t stop_requested;
 
@@ -22,7 +26,7 @@ static void on_signal(int sig)
 /* The newest body received and not simulated yet. */
 typedef struct pending_body {
     int have;
-    int32_t seq;
+    int32_t seq, topology_id;
     int64_t utime_capture, received;
     int nv, cap;
     float *xyz; /* [nv][3] */
@@ -43,10 +47,12 @@ typedef struct app {
     pending_body next;
     sim *sim;
     char garment_id[64];
-    int32_t body_topology; /* topology whose triangles we hold */
-    int32_t *body_tris;
-    int body_nt;
-    float *xyz; /* cloth vertices for the message */
+    sim_topologies topo;  /* body triangle lists per topology id (bounded, live one pinned) */
+    uint32_t garment_gen; /* the list (sim_topology.gen) the garment was made on */
+    int refused;          /* bodies refused: unknown topology, too large, or no garment on them */
+    int diverged_run;     /* bodies in a row on which the garment diverged */
+    int fatal;            /* an error no body can fix (the garment file): exit 1 */
+    float *xyz;           /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
     sim_outfit outfit, wanted, before; /* worn, asked for over CONTROL (sim/outfit.c), last */
     int want_switch, controls_refused;
@@ -76,20 +82,22 @@ static void auto_backend(app *a)
         fprintf(stderr, "tryon-sim: no OpenCL device (%s): the C backend\n", name);
 }
 
-static int make_sim(app *a, const pending_body *b)
+/* Makes the garment on body b. Returns 0, or -1: the body cannot carry it (refused, the next
+ * body is tried) or a->fatal is set (the garment file is bad: no body helps). */
+static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
 {
     sim_garment g = {0};
     sim_reject why = {0};
-    int r = sim_outfit_make(&a->outfit, b->xyz, b->nv, a->body_tris, a->body_nt,
+    int r = sim_outfit_make(&a->outfit, b->xyz, b->nv, topo->tris, topo->nt,
                             b->has_joints ? b->joints : NULL, a->verts, &g, &why);
+    a->fatal = r < 0 && a->outfit.is_file;
     if (r < 0) {
-        fprintf(stderr, "tryon-sim: garment %s: %s: %s\n", a->outfit.garment,
-                sim_error_name(why.code), why.detail);
+        fprintf(stderr, "tryon-sim: garment %s on body %d: %s: %s%s\n", a->outfit.garment, b->seq,
+                sim_error_name(why.code), why.detail,
+                a->fatal ? "" : "; body refused, waiting for one that can carry the garment");
         return -1;
     }
     a->desc.fabric = a->outfit.fabric;
-    a->topology++;
-    a->tris_due = 1;
     if (a->backend_auto)
         auto_backend(a);
     a->sim = sim_create(&a->desc, &g, &why);
@@ -101,32 +109,33 @@ static int make_sim(app *a, const pending_body *b)
     snprintf(a->garment_id, sizeof a->garment_id, "%s", g.id);
     sim_garment_free(&g);
     if (!a->sim) {
-        fprintf(stderr, "tryon-sim: %s: %s\n", sim_error_name(why.code), why.detail);
+        fprintf(stderr, "tryon-sim: body %d: %s: %s; body refused\n", b->seq,
+                sim_error_name(why.code), why.detail);
         return -1;
     }
+    free(a->xyz);
     a->xyz = malloc((size_t)sim_vertex_count(a->sim) * 3 * sizeof *a->xyz);
-    if (!a->xyz)
+    if (!a->xyz) {
+        sim_destroy(a->sim);
+        a->sim = NULL;
         return -1;
+    }
+    a->garment_gen = topo->gen;
+    a->diverged_run = 0;
+    a->topology++;
+    a->tris_due = 1;
     fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s\n", a->garment_id,
             sim_vertex_count(a->sim), a->desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
             sim_device_name(a->sim));
     return 0;
 }
 
-/* Triangles come with a topology id and may be omitted when unchanged: keep the last list. */
-static int body_triangles(app *a, const tryon_body_t *b)
+/* The garment is dropped, to be made again on the next body. */
+static void drop_sim(app *a)
 {
-    if (b->num_triangle_indices > 0) {
-        int32_t *t = realloc(a->body_tris, (size_t)b->num_triangle_indices * sizeof *t);
-        if (!t)
-            return -1;
-        memcpy(t, b->triangles, (size_t)b->num_triangle_indices * sizeof *t);
-        a->body_tris = t;
-        a->body_nt = b->num_triangle_indices / 3;
-        a->body_topology = b->topology_id;
-        return 0;
-    }
-    return a->body_tris && a->body_topology == b->topology_id ? 0 : -1;
+    sim_destroy(a->sim);
+    a->sim = NULL;
+    a->diverged_run = 0;
 }
 
 static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bus_timing *t)
@@ -171,18 +180,24 @@ static void on_body(const char *channel, const void *m, void *user)
     const tryon_body_t *b = m;
     int64_t received = bus_now_wall_us();
     a->bodies_received++;
-    if (body_triangles(a, b) < 0) {
-        fprintf(stderr, "tryon-sim: body %d: no triangles for topology %d yet; frame skipped\n",
-                b->seq, b->topology_id);
-        a->skipped++;
-        return;
-    }
     pending_body *p = &a->next;
     int nv = b->num_vertex_coords / 3;
     if (nv == 0) { /* no person (bodyfit lost them): the last cloth stands */
         if (a->skipped++ < 5)
             fprintf(stderr, "tryon-sim: body %d has no vertices (state %d); frame skipped\n",
                     b->seq, b->state);
+        return;
+    }
+    /* Checked before anything is kept: a body the sim cannot take never replaces a waiting one
+     * nor the triangles the garment lives on. */
+    const sim_topology *topo;
+    sim_reject why = {0};
+    int r = sim_topologies_intake(&a->topo, b->topology_id, nv, b->triangles,
+                                  b->num_triangle_indices / 3, bus_now_mono_us(), &topo, &why);
+    if (r < 0) {
+        if (a->refused++ < 5 || a->refused % 100 == 0)
+            fprintf(stderr, "tryon-sim: body %d refused (%d so far): %s: %s\n", b->seq, a->refused,
+                    sim_error_name(r), why.detail);
         return;
     }
     if (nv > p->cap) {
@@ -200,6 +215,7 @@ static void on_body(const char *channel, const void *m, void *user)
     memcpy(p->xyz, b->vertices, (size_t)nv * 3 * sizeof *p->xyz);
     p->nv = nv;
     p->seq = b->seq;
+    p->topology_id = b->topology_id;
     p->utime_capture = b->utime_capture;
     p->received = received;
     p->has_joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3;
@@ -237,21 +253,19 @@ static void switch_garment(app *a)
     a->before = a->outfit;
     a->outfit = a->wanted;
     a->want_switch = 0;
-    sim_destroy(a->sim);
-    a->sim = NULL;
-    free(a->xyz);
-    a->xyz = NULL;
+    drop_sim(a);
 }
 
-/* A requested garment that cannot be made (an unreadable file): the one worn before stays. */
-static int fall_back(app *a, const pending_body *b)
+/* A requested garment file that cannot be read: the one worn before stays. */
+static int fall_back(app *a, const pending_body *b, const sim_topology *topo)
 {
-    if (a->frames_done == 0 || sim_outfit_same(&a->outfit, &a->before))
+    if (!a->fatal || a->frames_done == 0 || sim_outfit_same(&a->outfit, &a->before))
         return -1;
     a->controls_refused++;
     fprintf(stderr, "tryon-sim: %s cannot be made; back to %s\n", a->outfit.id, a->before.id);
     a->outfit = a->before;
-    return make_sim(a, b);
+    a->fatal = 0;
+    return make_sim(a, b, topo);
 }
 
 static void step_body(app *a)
@@ -260,29 +274,56 @@ static void step_body(app *a)
     b->have = 0;
     bus_timing t; /* work starts now: the garment is made on the first body */
     bus_timing_begin(&t, "sim", b->seq, b->utime_capture, b->received);
-    if (!a->sim && make_sim(a, b) < 0 && fall_back(a, b) < 0) {
-        stop_requested = 1;
+    const sim_topology *topo;
+    sim_reject why = {0};
+    int64_t now = bus_now_mono_us();
+    /* Looked up again by id: the list may have been replaced since the body arrived. */
+    if (sim_topologies_intake(&a->topo, b->topology_id, 0, NULL, 0, now, &topo, &why) < 0) {
+        fprintf(stderr, "tryon-sim: body %d: %s; frame skipped\n", b->seq, why.detail);
+        a->skipped++;
+        return;
+    }
+    if (a->sim && topo->gen != a->garment_gen) {
+        fprintf(stderr,
+                "tryon-sim: body %d: topology %d is not the garment's body; the garment is "
+                "made again\n",
+                b->seq, b->topology_id);
+        drop_sim(a);
+    }
+    if (!a->sim && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
+        a->refused++;
+        if (a->fatal)
+            stop_requested = 1;
         return;
     }
     sim_frame_stats st;
-    sim_reject why = {0};
-    int r = sim_step(a->sim, b->xyz, b->nv, a->body_tris, a->body_nt, &st, &why);
+    int r = sim_step(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &st, &why);
     if (r < 0 && r != -SIM_ERR_DIVERGED) {
         fprintf(stderr, "tryon-sim: body %d rejected: %s: %s; frame skipped\n", b->seq,
                 sim_error_name(r), why.detail);
         a->skipped++;
         return;
     }
+    a->diverged_run = r == -SIM_ERR_DIVERGED ? a->diverged_run + 1 : 0;
+    if (r == 0)
+        sim_topologies_mark_live(&a->topo, b->topology_id, now);
     if (r == -SIM_ERR_DIVERGED)
         fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
                 why.detail);
     publish(a, b, &st, &t);
     a->frames_done++;
+    if (a->diverged_run >= SIM_MAIN_DIVERGED_REBUILD) {
+        fprintf(stderr,
+                "tryon-sim: the garment diverged on %d bodies in a row; made again on the "
+                "next body\n",
+                a->diverged_run);
+        drop_sim(a);
+    }
 }
 
-static int usage(void)
+static int usage(FILE *f, int rc)
 {
-    fprintf(stderr,
+    fprintf(f,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
@@ -300,7 +341,7 @@ static int usage(void)
             "          on the next body (docs/mirror.md)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
-    return 2;
+    return rc;
 }
 
 static int parse(app *a, int argc, char **argv)
@@ -311,8 +352,12 @@ static int parse(app *a, int argc, char **argv)
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!v)
+        if (!strcmp(o, "--help") || !strcmp(o, "-h"))
+            return 1;
+        if (!v) {
+            fprintf(stderr, "tryon-sim: %s needs a value\n", o);
             return -1;
+        }
         if (!strcmp(o, "--backend") &&
             (!strcmp(v, "c") || !strcmp(v, "opencl") || !strcmp(v, "auto"))) {
             a->backend_auto = !strcmp(v, "auto");
@@ -337,8 +382,10 @@ static int parse(app *a, int argc, char **argv)
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
             a->every_body = !strcmp(v, "all");
-        else
+        else {
+            fprintf(stderr, "tryon-sim: unknown option or bad value: %s %s\n", o, v);
             return -1;
+        }
         i++;
     }
     sim_reject why;
@@ -355,9 +402,11 @@ static int parse(app *a, int argc, char **argv)
 int main(int argc, char **argv)
 {
     app a = {0};
-    if (parse(&a, argc, argv) < 0)
-        return usage();
+    int pr = parse(&a, argc, argv);
+    if (pr != 0)
+        return pr > 0 ? usage(stdout, 0) : usage(stderr, 2);
     char err[512], channel_body[BUS_CHANNEL_MAX];
+    sim_topologies_init(&a.topo, a.desc.max_body_vertices, a.desc.max_body_triangles);
     a.lcm = bus_open(NULL, err, sizeof err);
     if (!a.lcm) {
         fprintf(stderr, "tryon-sim: %s\n", err);
@@ -392,10 +441,10 @@ int main(int argc, char **argv)
     }
     const bus_stats *bs = bus_sub_stats(sub);
     fprintf(stderr,
-            "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %llu "
-            "BODY messages dropped\n",
-            a.frames_done, a.superseded, a.skipped, (unsigned long long)bs->rejected);
-    int failed = a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim;
+            "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %d "
+            "refused, %llu BODY messages dropped\n",
+            a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected);
+    int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,
             (unsigned long long)bus_sub_stats(control_sub)->rejected, a.controls_refused);
@@ -403,7 +452,7 @@ int main(int argc, char **argv)
     bus_unsubscribe(a.lcm, sub);
     lcm_destroy(a.lcm);
     sim_destroy(a.sim);
-    free(a.body_tris);
+    sim_topologies_free(&a.topo);
     free(a.xyz);
     free(a.next.xyz);
     return failed ? 1 : 0;

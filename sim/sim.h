@@ -164,6 +164,8 @@ void sim_garment_free(sim_garment *g); /* frees the arrays; the struct itself is
 int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const int32_t *from_tris,
                        int from_nt, const float *to_xyz, int to_nv, const int32_t *to_tris,
                        int to_nt, sim_reject *why);
+/* The largest garment any reader or check accepts (vertices; twice as many triangles). */
+#define GARMENT_MAX_VERTICES 1000000
 /* Checks sizes, finiteness, indices, degenerate triangles, masses and attachments. */
 int sim_garment_validate(const sim_garment *g, int body_nt, sim_reject *why);
 /* Body check used by sim_step: finite, indices in range, no repeated vertex in a triangle. */

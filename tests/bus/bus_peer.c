@@ -6,6 +6,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct peer {
     lcm_t *lcm;
@@ -34,6 +35,16 @@ static void on_body(const char *channel, const void *msg, void *user)
 
 int main(int argc, char **argv)
 {
+    static const char usage[] = "usage: bus_peer [ECHOES (1)] [DEADLINE_MS (10000)]\n";
+    if (argc > 1 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    for (int i = 1; i < argc; i++)
+        if (argv[i][0] == '-' || i > 2) {
+            fprintf(stderr, "bus_peer: unknown option %s\n%s", argv[i], usage);
+            return 2;
+        }
     int want = argc > 1 ? atoi(argv[1]) : 1;
     int deadline_ms = argc > 2 ? atoi(argv[2]) : 10000;
     char err[512];

@@ -131,12 +131,13 @@ static void test_subscriber_refuses_and_counts_bad_control(void **state)
     no_nul[GARMENT_LEN_AT + 4 + 5] = 'x';
     put_i32(huge_len + GARMENT_LEN_AT, INT32_MAX);
 
-    lcm_publish(lcm, "C", g, gn);
-    lcm_publish(lcm, "C", bad_size, gn);
-    lcm_publish(lcm, "C", no_nul, gn);
-    lcm_publish(lcm, "C", huge_len, gn);
-    lcm_publish(lcm, "C", g, gn - 1); /* truncated by one byte */
-    lcm_publish(lcm, "C", g, gn);
+    bus_reject sent; /* sealed (bus.h) so that only the payload is wrong */
+    bus_publish_raw(lcm, "C", g, (size_t)gn, &sent);
+    bus_publish_raw(lcm, "C", bad_size, (size_t)gn, &sent);
+    bus_publish_raw(lcm, "C", no_nul, (size_t)gn, &sent);
+    bus_publish_raw(lcm, "C", huge_len, (size_t)gn, &sent);
+    bus_publish_raw(lcm, "C", g, (size_t)gn - 1, &sent); /* truncated by one byte */
+    bus_publish_raw(lcm, "C", g, (size_t)gn, &sent);
     for (int i = 0; i < 6; i++)
         lcm_handle_timeout(lcm, 500);
 

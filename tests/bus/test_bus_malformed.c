@@ -261,12 +261,14 @@ static void test_subscriber_counts_rejections_and_keeps_serving(void **state)
     int bin = fx_encode(BUS_BODY, &bad_index.msg, &bi);
     uint8_t junk[5] = {1, 2, 3, 4, 5};
 
-    lcm_publish(lcm, "B", junk, sizeof junk); /* truncated */
-    lcm_publish(lcm, "B", g, gn);
-    lcm_publish(lcm, "B", nb, nbn);
-    lcm_publish(lcm, "B", bi, bin);
-    lcm_publish(lcm, "B", g, gn - 1); /* truncated by one byte */
-    lcm_publish(lcm, "B", g, gn);
+    /* Signed with this host's key, so that the decoder's checks are what is tested. */
+    bus_reject sent;
+    bus_publish_raw(lcm, "B", junk, sizeof junk, &sent); /* truncated */
+    bus_publish_raw(lcm, "B", g, (size_t)gn, &sent);
+    bus_publish_raw(lcm, "B", nb, (size_t)nbn, &sent);
+    bus_publish_raw(lcm, "B", bi, (size_t)bin, &sent);
+    bus_publish_raw(lcm, "B", g, (size_t)gn - 1, &sent); /* truncated by one byte */
+    bus_publish_raw(lcm, "B", g, (size_t)gn, &sent);
     for (int i = 0; i < 6; i++)
         lcm_handle_timeout(lcm, 500);
 

@@ -69,15 +69,22 @@ static void test_profile_percentiles_drops_and_order(void **state)
     bus_profile_destroy(p);
 }
 
+/* One event as lcm-logger writes it: the payload and its tag. */
 static void write_event(lcm_eventlog_t *log, int64_t n, const char *channel, void *data, int len)
 {
+    uint8_t *sealed = malloc((size_t)len + BUS_TAG_BYTES);
+    assert_non_null(sealed);
+    memcpy(sealed, data, (size_t)len);
+    bus_reject why;
+    assert_int_equal(bus_seal(channel, sealed, (size_t)len, &why), BUS_OK);
     lcm_eventlog_event_t ev = {.eventnum = n,
                                .timestamp = 1000 + n,
                                .channellen = (int32_t)strlen(channel),
-                               .datalen = len,
+                               .datalen = len + BUS_TAG_BYTES,
                                .channel = (char *)channel,
-                               .data = data};
+                               .data = sealed};
     assert_int_equal(lcm_eventlog_write_event(log, &ev), 0);
+    free(sealed);
 }
 
 static void test_profile_reads_an_lcm_log_and_skips_corrupt_events(void **state)

@@ -1,4 +1,4 @@
-/* Small meshes and random numbers shared by the collision tests (SIM-B). */
+/* Small meshes and random numbers shared by the collision tests. */
 #ifndef TRYON_TEST_COLLIDE_UTIL_H
 #define TRYON_TEST_COLLIDE_UTIL_H
 

@@ -157,7 +157,10 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
     assert_true(s.n.timing >= before + 3);
     assert_true(s.n.cloth_with_tris >= 1);
     assert_non_null(log);
-    assert_non_null(strstr(log, "SIM_ERR_DEGENERATE"));
+    /* its triangles differ from the live topology's: refused at intake (the list kept), or, if
+     * the sim stood idle past the pin, no garment can be made on it */
+    assert_true(strstr(log, "SIM_ERR_TOPOLOGY: topology 1 is live") ||
+                strstr(log, "SIM_ERR_DEGENERATE"));
     assert_non_null(strstr(log, "has no vertices"));
     assert_non_null(strstr(log, "1 BODY messages dropped"));
     free(log);
