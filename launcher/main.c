@@ -17,7 +17,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: tryon run [RECORDING | --live] [--headless --out DIR] [--video FILE.mp4]\n"
                "                 [--garment FILE] [--fabric NAME] [--record DIR]\n"
                "                 [--body bodyfit|truth] [--backend auto|c|opencl] [--rate R]\n"
-               "                 [--png-every N]\n"
+               "                 [--png-every N] [--kiosk]\n"
                "       tryon replay LOG [--headless --out DIR] [--video FILE.mp4] [--speed S]\n"
                "  RECORDING: a fakenect dump (INDEX.txt) or an .oni file; --live: a camera\n"
                "             (libfreenect, then OpenNI2)\n"
@@ -40,6 +40,8 @@ static int parse_run(session_opts *o, int argc, char **argv)
             o->live = 1;
         else if (!strcmp(a, "--headless"))
             o->headless = 1;
+        else if (!strcmp(a, "--kiosk"))
+            o->kiosk = 1;
         else if (a[0] != '-' && !o->recording)
             o->recording = a;
         else if (!v || a[0] != '-') {
@@ -124,6 +126,8 @@ int session_add_view(session *s)
         return -1;
     if (s->o.headless)
         session_arg(s, m, "--headless", NULL);
+    if (s->o.kiosk && !s->o.headless)
+        session_arg(s, m, "--kiosk", NULL);
     const char *out = s->o.out_dir;
     if (s->o.headless && !out && !s->o.video) /* headless needs somewhere to put the frames */
         out = "";

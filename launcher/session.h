@@ -15,7 +15,7 @@
 
 typedef struct session_opts {
     const char *recording; /* NULL with live */
-    int live, headless;
+    int live, headless, kiosk;
     const char *out_dir, *video, *garment, *fabric, *record_dir, *body, *backend, *rate;
     const char *log; /* replay */
     const char *speed, *png_every;
