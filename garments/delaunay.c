@@ -25,6 +25,18 @@ static void circumcircle(const double *p, dtri *t)
     t->r2 = ux * ux + uy * uy;
 }
 
+/* p strictly inside the circumcircle of ccw triangle v (the classic in-circle determinant). */
+static int in_circle(const double *pts, const int v[3], int p)
+{
+    const double *a = pts + 2 * v[0], *b = pts + 2 * v[1], *c = pts + 2 * v[2], *d = pts + 2 * p;
+    double ax = a[0] - d[0], ay = a[1] - d[1], bx = b[0] - d[0], by = b[1] - d[1];
+    double cx = c[0] - d[0], cy = c[1] - d[1];
+    double det = (ax * ax + ay * ay) * (bx * cy - cx * by) -
+                 (bx * bx + by * by) * (ax * cy - cx * ay) +
+                 (cx * cx + cy * cy) * (ax * by - bx * ay);
+    return det > 0;
+}
+
 typedef struct dedge {
     int a, b;
 } dedge;
@@ -57,7 +69,9 @@ int gar_delaunay(double *pts, int n, int32_t **tris_out, int *nt_out)
         int nbad = 0, npoly = 0;
         for (int k = 0; k < nt; k++) {
             double dx = px - t[k].cx, dy = py - t[k].cy;
-            if (dx * dx + dy * dy < t[k].r2)
+            /* The cached circle culls; the determinant, exact for near-cocircular points to
+             * double rounding, decides. */
+            if (dx * dx + dy * dy < t[k].r2 * (1 + 1e-9) + 1e-30 && in_circle(pts, t[k].v, i))
                 bad[nbad++] = k;
         }
         /* The cavity's boundary: edges of bad triangles that no other bad triangle shares. */

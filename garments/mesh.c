@@ -44,7 +44,7 @@ typedef struct panel_mesh {
     int nt;
 } panel_mesh;
 
-/* Interior grid points: inside the outline, clear of it by GAR_GRID_CLEARANCE spacings. */
+/* Interior lattice points: inside the outline, clear of it by GAR_GRID_CLEARANCE spacings. */
 static int grid_points(const float *poly, int nb, float h, double **pts, int *ni)
 {
     float lo[2] = {poly[0], poly[1]}, hi[2] = {poly[0], poly[1]};
@@ -53,7 +53,10 @@ static int grid_points(const float *poly, int nb, float h, double **pts, int *ni
             lo[k] = fminf(lo[k], poly[2 * i + k]);
             hi[k] = fmaxf(hi[k], poly[2 * i + k]);
         }
-    int cols = (int)((hi[0] - lo[0]) / h) + 1, rows = (int)((hi[1] - lo[1]) / h) + 1;
+    /* Rows of the lattice are offset by half a spacing (a triangular lattice): no four of its
+     * points are cocircular, which keeps the Delaunay step away from its degenerate case. */
+    double dy = h * 0.8660254037844386;
+    int cols = (int)((hi[0] - lo[0]) / h) + 2, rows = (int)((hi[1] - lo[1]) / dy) + 1;
     if ((double)cols * rows > GAR_MAX_MESH_VERTICES)
         return -GAR_ERR_TOO_LARGE;
     double *p = malloc(((size_t)nb + (size_t)cols * rows + 3) * 2 * sizeof *p);
@@ -64,10 +67,10 @@ static int grid_points(const float *poly, int nb, float h, double **pts, int *ni
     int n = nb;
     /* The grid is centred on the bounding box so a symmetric panel meshes symmetrically. */
     double x0 = (lo[0] + hi[0]) / 2 - (cols - 1) * h / 2.0;
-    double y0 = (lo[1] + hi[1]) / 2 - (rows - 1) * h / 2.0;
+    double y0 = (lo[1] + hi[1]) / 2 - (rows - 1) * dy / 2.0;
     for (int r = 0; r < rows; r++)
         for (int c = 0; c < cols; c++) {
-            double x = x0 + c * h, y = y0 + r * h;
+            double x = x0 + (c - 0.5 * (r & 1)) * h, y = y0 + r * dy;
             if (gar_point_in_polygon(poly, nb, x, y) &&
                 gar_point_polygon_distance(poly, nb, x, y) >= GAR_GRID_CLEARANCE * h)
                 p[2 * n] = x, p[2 * n + 1] = y, n++;

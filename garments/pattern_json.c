@@ -185,12 +185,12 @@ static int read_panel(const cJSON *jp, gar_panel *pn, double scale, gar_reject *
         return gar_refuse(why, verts && edges ? GAR_ERR_TYPE : GAR_ERR_MISSING,
                           "panel '%s': needs arrays \"vertices\" and \"edges\"", pn->name);
     int nv = cJSON_GetArraySize(verts), ne = cJSON_GetArraySize(edges);
-    if (nv < 3 || ne < 2 || nv > GAR_MAX_PANEL_VERTICES || ne > GAR_MAX_PANEL_VERTICES)
+    if (nv < 2 || ne < 2 || nv > GAR_MAX_PANEL_VERTICES || ne > GAR_MAX_PANEL_VERTICES)
         return gar_refuse(why,
                           nv > GAR_MAX_PANEL_VERTICES || ne > GAR_MAX_PANEL_VERTICES
                               ? GAR_ERR_TOO_LARGE
                               : GAR_ERR_OUTLINE,
-                          "panel '%s': %d vertices and %d edges (3..%d and 2..%d allowed)",
+                          "panel '%s': %d vertices and %d edges (2..%d and 2..%d allowed)",
                           pn->name, nv, ne, GAR_MAX_PANEL_VERTICES, GAR_MAX_PANEL_VERTICES);
     pn->uv_m = calloc((size_t)nv * 2, sizeof *pn->uv_m);
     pn->edges = calloc((size_t)ne, sizeof *pn->edges);
