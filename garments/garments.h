@@ -135,6 +135,29 @@ typedef struct gar_mesh {
 int gar_mesh_build(const gar_pattern *p, const gar_mesh_desc *desc, gar_mesh *out, gar_reject *why);
 void gar_mesh_free(gar_mesh *m);
 
+/* Placement around tryon's body (place.c). Each panel is classed by where the file puts it
+ * (on the reference body: bodyfit's average shape) and wrapped, unstretched along u, on a
+ * surface of revolution around that part of the given body (axes from its joints), a
+ * clearance outside the body's widest point at each level, facing as the file faces it. */
+typedef enum gar_part {
+    GAR_PART_TORSO,
+    GAR_PART_ARM_L,
+    GAR_PART_ARM_R,
+    GAR_PART_LEG_L,
+    GAR_PART_LEG_R,
+    GAR_PART_COUNT
+} gar_part;
+gar_part gar_panel_part(const gar_pattern *p, int panel);
+
+typedef struct gar_place_desc {
+    float clearance_m; /* 0 = 0.02 */
+} gar_place_desc;
+struct fit_model;
+/* Rewrites m->xyz. body_xyz / joints: a posed body (NULL = the rest pose). */
+int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const struct fit_model *body,
+                   const float *body_xyz, const float *joints, const gar_place_desc *desc,
+                   gar_reject *why);
+
 /* Fabrics: one table (fabric.c). Membrane stiffnesses in N/m as sim_fabric. */
 typedef struct gar_fabric {
     const char *name;
