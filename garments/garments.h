@@ -158,6 +158,40 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const struct fit_model *bo
                    const float *body_xyz, const float *joints, const gar_place_desc *desc,
                    gar_reject *why);
 
+/* The seed's dressing (seed 003; dress_seed.c): a mass-spring cloth (stretch, shear and bend
+ * springs, viscous damping, gravity) stitched by joint forces, over-elongated springs corrected
+ * in velocity (Vassilev), the six parallel loops of the seed's Algorithm 1 under OpenMP,
+ * cloth-body collision in image space (front and back orthographic depth and normal maps of the
+ * body, rendered on the CPU), cloth-cloth between panels by the recursive AABB split in four
+ * (OpenMP tasks); seaming until the seams close, then draping steps. */
+typedef struct gar_dress_desc {
+    const struct gar_fabric *fabric; /* NULL = cotton */
+    float dt_s;                      /* 0 = 0.001 */
+    float max_seaming_s;             /* simulated time allowed to close the seams; 0 = 2 */
+    int drape_steps;                 /* after the seams close; 0 = 300 */
+    float map_pixel_m;               /* depth map pixel; 0 = 0.004 */
+    int cloth_cloth;                 /* 1 = panel-panel repulsion on */
+} gar_dress_desc;
+
+/* The figures of a dressed garment (ARCHITECTURE.md "Metrics"). */
+typedef struct gar_dress_stats {
+    float ms;          /* wall clock of the whole dressing */
+    int steps;         /* integration steps, seaming and draping */
+    float seaming_s;   /* simulated time until every joint was within GAR_SEAM_CLOSED_M */
+    float seam_gap_mm; /* max distance between joint partners */
+    int penetrating;   /* vertices more than 1 mm inside the body */
+    float max_pen_mm;
+    float max_strain, p99_strain; /* stretch springs */
+    int crossings;                /* edges of one panel through a triangle of another */
+    int threads;
+} gar_dress_stats;
+
+/* Dresses m (its xyz placed: gar_mesh_place) on the body in its rest pose. */
+int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const struct fit_model *body,
+                   const gar_dress_desc *desc, gar_dress_stats *stats, gar_reject *why);
+/* The figures alone, of any state of the mesh (xyz) on the rest body. */
+int gar_dress_measure(const gar_mesh *m, const struct fit_model *body, gar_dress_stats *stats);
+
 /* Fabrics: one table (fabric.c). Membrane stiffnesses in N/m as sim_fabric. */
 typedef struct gar_fabric {
     const char *name;

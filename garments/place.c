@@ -16,6 +16,8 @@
 /* Radius profiles in 1 cm bins along each part's axis. */
 #define GAR_PROFILE_BIN_M 0.01f
 #define GAR_PROFILE_BINS  256
+/* Radius change per metre along the axis at most (about 17 degrees). */
+#define GAR_PROFILE_SLOPE 0.3f
 /* Panel classes from the file placement (reference body, metres): arms hang outside 0.25 m
  * above 1.0 m, legs are panels off the centre line below 0.85 m. */
 #define GAR_ARM_MIN_X 0.25f
@@ -64,8 +66,11 @@ static int vertex_in_part(gar_part part, int joint, float x, float pelvis_x)
 {
     int arm_l = joint == FIT_L_SHOULDER || joint == FIT_L_ELBOW || joint == FIT_L_WRIST;
     int arm_r = joint == FIT_R_SHOULDER || joint == FIT_R_ELBOW || joint == FIT_R_WRIST;
-    int leg_l = joint >= FIT_L_HIP && joint <= FIT_L_TOE;
-    int leg_r = joint >= FIT_R_HIP && joint <= FIT_R_TOE;
+    /* The feet stay out: a hem hangs over them and the push-out step clears them. */
+    int leg_l = joint >= FIT_L_HIP && joint <= FIT_L_ANKLE;
+    int leg_r = joint >= FIT_R_HIP && joint <= FIT_R_ANKLE;
+    if (joint == FIT_L_TOE || joint == FIT_R_TOE)
+        return 0;
     int torso = !arm_l && !arm_r && !leg_l && !leg_r && joint != FIT_HEAD;
     switch (part) {
     case GAR_PART_ARM_L:
@@ -162,13 +167,15 @@ static void build_axis(gar_part part, const float *joints, const fit_model *body
         int b = bin_of(ax, s);
         ax->radius[b] = fmaxf(ax->radius[b], r);
     }
-    /* Empty bins take the nearest measured radius. */
-    for (int pass = 0; pass < 2; pass++)
-        for (int i = 1; i < GAR_PROFILE_BINS; i++) {
-            int a = pass ? GAR_PROFILE_BINS - 1 - i : i, b = pass ? a + 1 : a - 1;
-            if (ax->radius[a] == 0)
-                ax->radius[a] = ax->radius[b];
-        }
+    /* The profile dilated by a cone of slope GAR_PROFILE_SLOPE: it clears every slice and
+     * changes gently from row to row, so a panel's rows stay close to their rest spacing. */
+    float r[GAR_PROFILE_BINS];
+    for (int i = 0; i < GAR_PROFILE_BINS; i++) {
+        r[i] = 0;
+        for (int k = 0; k < GAR_PROFILE_BINS; k++)
+            r[i] = fmaxf(r[i], ax->radius[k] - GAR_PROFILE_SLOPE * GAR_PROFILE_BIN_M * abs(i - k));
+    }
+    memcpy(ax->radius, r, sizeof r);
 }
 
 /* Radius at s: the widest body slice within two bins, so neighbouring rows see the same body. */
