@@ -1,7 +1,11 @@
 /* The seed's image-space body (seed 003, after Vassilev et al.): two orthographic cameras at
  * the front and the back of the body's bounding box render depth and normal maps, here
  * rasterised on the CPU. A cloth point whose pixel the body covers and whose z lies between
- * the back and the front depth is inside the body. */
+ * the back and the front depth is inside the body's slab. Front and back alone cannot see the
+ * body's sides and tops (a shoulder's normal is nearly perpendicular to z, so a depth along z
+ * says little about the depth along the normal), so tryon renders the same pair along x and y
+ * too: a point is inside when it is inside all three slabs (a three-view visual hull), and it
+ * is pushed out along the normal of the view that finds it shallowest. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,14 +57,25 @@ static void rasterise(gar_body_maps *bm, const float *a, const float *b, const f
         }
 }
 
-int gar_body_maps_render(const float *xyz, int nv, const int32_t *tris, int nt, float pixel_m,
-                         gar_body_maps *bm)
+/* Coordinates of p seen along axis: (across, up, depth). */
+static void view(int axis, const float *p, float out[3])
+{
+    static const int order[3][3] = {{2, 1, 0}, {0, 2, 1}, {0, 1, 2}};
+    for (int k = 0; k < 3; k++)
+        out[k] = p[order[axis][k]];
+}
+
+static int render_axis(const float *xyz, int nv, const int32_t *tris, int nt, float pixel_m,
+                       int axis, gar_body_maps *bm)
 {
     memset(bm, 0, sizeof *bm);
-    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (int v = 0; v < nv; v++)
+    bm->axis = axis;
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, q[3];
+    for (int v = 0; v < nv; v++) {
+        view(axis, xyz + 3 * v, q);
         for (int k = 0; k < 2; k++)
-            lo[k] = fminf(lo[k], xyz[3 * v + k]), hi[k] = fmaxf(hi[k], xyz[3 * v + k]);
+            lo[k] = fminf(lo[k], q[k]), hi[k] = fmaxf(hi[k], q[k]);
+    }
     bm->pixel_m = pixel_m;
     bm->x0 = lo[0] - 2 * pixel_m;
     bm->y0 = lo[1] - 2 * pixel_m;
@@ -90,7 +105,23 @@ int gar_body_maps_render(const float *xyz, int nv, const int32_t *tris, int nt, 
         if (!(l > 0))
             continue;
         nn[0] /= l, nn[1] /= l, nn[2] /= l;
-        rasterise(bm, a, b, c, nn);
+        float va[3], vb[3], vc[3];
+        view(axis, a, va), view(axis, b, vb), view(axis, c, vc);
+        rasterise(bm, va, vb, vc, nn);
+    }
+    return 0;
+}
+
+int gar_body_maps_render(const float *xyz, int nv, const int32_t *tris, int nt, float pixel_m,
+                         gar_body_maps bm[3])
+{
+    for (int axis = 0; axis < 3; axis++) {
+        int rc = render_axis(xyz, nv, tris, nt, pixel_m, axis, &bm[axis]);
+        if (rc) {
+            for (int k = 0; k <= axis; k++)
+                gar_body_maps_free(&bm[k]);
+            return rc;
+        }
     }
     return 0;
 }
@@ -101,9 +132,12 @@ void gar_body_maps_free(gar_body_maps *bm)
     memset(bm, 0, sizeof *bm);
 }
 
-int gar_body_maps_collide(const gar_body_maps *bm, const float p[3], float margin_m, float push[3],
-                          float n_out[3])
+/* One view: 0 outside its slab, else 1 with the depth along the normal and the normal. */
+static int collide_axis(const gar_body_maps *bm, const float pw[3], float margin_m, float *depth,
+                        const float **normal)
 {
+    float p[3];
+    view(bm->axis, pw, p);
     int x = (int)floorf((p[0] - bm->x0) / bm->pixel_m),
         y = (int)floorf((p[1] - bm->y0) / bm->pixel_m);
     if (x < 0 || y < 0 || x >= bm->w || y >= bm->h)
@@ -116,8 +150,25 @@ int gar_body_maps_collide(const gar_body_maps *bm, const float p[3], float margi
     int front = p[2] - (f + b) / 2 >= 0;
     const float *n = front ? bm->front_n + 3 * i : bm->back_n + 3 * i;
     float dz = front ? f + margin_m - p[2] : p[2] - (b - margin_m);
-    float depth = dz * fabsf(n[2]);
+    *depth = dz * fabsf(n[bm->axis]);
+    *normal = n;
+    return 1;
+}
+
+int gar_body_maps_collide(const gar_body_maps bm[3], const float p[3], float margin_m,
+                          float push[3], float n_out[3])
+{
+    float best = INFINITY;
+    const float *bn = NULL;
+    for (int axis = 0; axis < 3; axis++) {
+        float depth;
+        const float *n;
+        if (!collide_axis(&bm[axis], p, margin_m, &depth, &n))
+            return 0; /* outside one slab: outside the hull */
+        if (depth < best)
+            best = depth, bn = n;
+    }
     for (int k = 0; k < 3; k++)
-        push[k] = depth * n[k], n_out[k] = n[k];
+        push[k] = best * bn[k], n_out[k] = bn[k];
     return 1;
 }

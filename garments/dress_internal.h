@@ -4,21 +4,22 @@
 
 #include "pattern_internal.h"
 
-/* Front (largest z) and back (smallest z) depth of the body per pixel of an x-y grid, and the
- * outward face normal there; empty pixels hold -inf / +inf. */
+/* Front (largest depth) and back (smallest) depth of the body per pixel seen along one axis
+ * (0 = x, 1 = y, 2 = z: the seed's front/back pair), and the outward face normal there;
+ * empty pixels hold -inf / +inf. Rendered for the three axes. */
 typedef struct gar_body_maps {
-    int w, h;
+    int axis, w, h;
     float x0, y0, pixel_m;
     float *front_z, *back_z;
     float *front_n, *back_n; /* [pixel][3] */
 } gar_body_maps;
 int gar_body_maps_render(const float *xyz, int nv, const int32_t *tris, int nt, float pixel_m,
-                         gar_body_maps *bm);
+                         gar_body_maps bm[3]);
 void gar_body_maps_free(gar_body_maps *bm);
-/* 1 if p is inside the body or within margin_m of it: push is the move out to margin_m along
- * the map's normal n. */
-int gar_body_maps_collide(const gar_body_maps *bm, const float p[3], float margin_m, float push[3],
-                          float n[3]);
+/* 1 if p is inside all three slabs (or within margin_m): push is the move out to margin_m
+ * along the normal n of the view that finds it shallowest. */
+int gar_body_maps_collide(const gar_body_maps bm[3], const float p[3], float margin_m,
+                          float push[3], float n[3]);
 
 /* Springs of a garment mesh: stretch (triangle edges), shear (the far vertices of two triangles
  * sharing an edge), bend (a vertex's two neighbours that lie nearly opposite). Rest lengths from

@@ -1,8 +1,8 @@
 /* The seed's dressing (seed 003, Algorithm 1): six parallel loops per step: spring forces;
  * external forces (viscous damping, gravity); joint (seam) forces; velocities with image-space
  * collision; velocity correction of over-elongated springs (Vassilev) and of open joints; new
- * positions. Loops over springs and joints write their own slots and the per-vertex loops
- * gather them, so no two threads write one vertex. */
+ * positions (and a floor at y = 0, where the body stands). Loops over springs and joints write
+ * their own slots and the per-vertex loops gather them, so no two threads write one vertex. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,11 +22,20 @@
  * stretch stiffness is capped at a tenth of the lightest vertex's limit and the velocity
  * correction (Vassilev) keeps the strain at the fabric's max_strain instead (the seed's way to
  * take steps of a millisecond). */
-#define GAR_STABLE_FRACTION 0.1f
+#define GAR_STABLE_FRACTION 0.3f
+/* A joint's force grows with its gap up to this gap, then stays (a seam 30 cm open would
+ * otherwise throw its vertices at tens of m/s). */
+#define GAR_SEAM_FORCE_REACH_M 0.01f
 /* Seams pull their open joints shut over this time constant (s). */
 #define GAR_SEAM_TAU_S 0.05f
 /* Velocity corrections are capped (m/s) so a badly placed start cannot fling the cloth. */
 #define GAR_MAX_CORRECTION_M_S 0.5f
+/* Velocity correction rounds per step (the seed: one) and the fastest a joint closes. */
+#define GAR_CORRECTION_ROUNDS 6
+#define GAR_SEAM_MIN_STEPS    4.0f
+/* Seams close no faster than this (m/s), so the panels' interiors, which the velocity
+ * correction reaches a ring of springs per round, can follow their edges. */
+#define GAR_SEAM_SPEED_M_S 0.15f
 /* Cloth thickness for the body (image space) and between panels. */
 #define GAR_BODY_MARGIN_M     0.003f
 #define GAR_CLOTH_THICKNESS_M 0.003f
@@ -40,7 +49,7 @@ typedef struct dress {
     gar_springs sp;
     float k[3], kj, max_strain, friction, dt;
     int32_t *vj_offset, *vj; /* joints per vertex: index * 3 + role (0 = a, 1 = b0, 2 = b1) */
-    gar_body_maps maps;
+    gar_body_maps maps[3];
     gar_cc *cc;
     uint8_t *skip;
 } dress;
@@ -137,7 +146,72 @@ static void gather_springs(const dress *d, int i, const float *per_spring, float
     }
 }
 
-static void step(dress *d, int with_cc)
+/* Loop 5 (seed: Vassilev's velocity modification): an over-elongated stretch spring loses the
+ * relative velocity that stretches it and gains one that brings it back to max_strain within
+ * the step; an open joint's relative velocity is set to close it. A vertex in several
+ * corrections takes their mean (Jacobi). */
+static void correct_velocities(dress *d)
+{
+    const gar_mesh *m = d->m;
+    int nj = m->num_joints, n = d->n;
+    float dt = d->dt;
+#pragma omp parallel for schedule(static)
+    for (int s = 0; s < d->sp.n_stretch; s++) {
+        int ia = d->sp.ends[2 * s], ib = d->sp.ends[2 * s + 1];
+        const float *a = d->x + 3 * ia, *b = d->x + 3 * ib, *va = d->v + 3 * ia,
+                    *vb = d->v + 3 * ib;
+        float e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float l = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        float lmax = d->sp.rest_m[s] * (1 + d->max_strain), corr = 0;
+        if (l > 0) {
+            float rel =
+                ((vb[0] - va[0]) * e[0] + (vb[1] - va[1]) * e[1] + (vb[2] - va[2]) * e[2]) / l;
+            if (l + rel * dt > lmax)
+                corr = fmaxf((lmax - l) / dt - rel, -GAR_MAX_CORRECTION_M_S);
+        }
+        for (int k = 0; k < 3; k++)
+            d->dv[3 * s + k] = l > 0 ? 0.5f * corr * e[k] / l : 0;
+    }
+#pragma omp parallel for schedule(static)
+    for (int j = 0; j < nj; j++) {
+        float p[3];
+        partner(d, &m->joints[j], p);
+        const gar_joint *jt = &m->joints[j];
+        const float *a = d->x + 3 * jt->a, *va = d->v + 3 * jt->a;
+        float g[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        float gl = sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        /* Wide gaps close at GAR_SEAM_SPEED_M_S, narrow ones within a few steps. */
+        float tau = fmaxf(GAR_SEAM_MIN_STEPS * dt, fminf(GAR_SEAM_TAU_S, gl / GAR_SEAM_SPEED_M_S));
+        for (int k = 0; k < 3; k++) {
+            float vp = (1 - jt->w) * d->v[3 * jt->b0 + k] + jt->w * d->v[3 * jt->b1 + k];
+            d->dvj[3 * j + k] = 0.5f * (g[k] / tau - (va[k] - vp));
+        }
+    }
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < n; i++) {
+        float c[3] = {0, 0, 0}, cj[3] = {0, 0, 0};
+        int active = 0;
+        for (int q = d->sp.vert_offset[i]; q < d->sp.vert_offset[i + 1]; q++) {
+            int sp = d->sp.vert_springs[q];
+            if (sp >= d->sp.n_stretch)
+                continue;
+            float sign = d->sp.ends[2 * sp] == i ? 1.0f : -1.0f; /* a slows, b speeds */
+            const float *dv = d->dv + 3 * sp;
+            if (dv[0] != 0 || dv[1] != 0 || dv[2] != 0)
+                active++;
+            for (int k = 0; k < 3; k++)
+                c[k] += sign * dv[k];
+        }
+        int nji = d->vj_offset[i + 1] - d->vj_offset[i];
+        if (nji > 0)
+            gather_joints(d, i, d->dvj, cj);
+        float *v = d->v + 3 * i;
+        for (int k = 0; k < 3; k++)
+            v[k] += -c[k] / (active > 0 ? active : 1) + (nji > 0 ? cj[k] / nji : 0);
+    }
+}
+
+static void step(dress *d, int with_cc, float gravity)
 {
     const gar_mesh *m = d->m;
     int ns = d->sp.n, nj = m->num_joints, n = d->n;
@@ -157,20 +231,24 @@ static void step(dress *d, int with_cc)
     for (int j = 0; j < nj; j++) {
         float p[3];
         partner(d, &m->joints[j], p);
+        const float *a = d->x + 3 * m->joints[j].a;
+        float g[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        float gl = sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        float scale = gl > GAR_SEAM_FORCE_REACH_M ? GAR_SEAM_FORCE_REACH_M / gl : 1.0f;
         for (int k = 0; k < 3; k++)
-            d->fj[3 * j + k] = d->kj * (p[k] - d->x[3 * m->joints[j].a + k]);
+            d->fj[3 * j + k] = d->kj * scale * g[k];
     }
     /* Loops 2 and 4: external forces, gathered spring and joint forces, velocity, collision. */
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; i++) {
-        float f[3] = {0, -GAR_GRAVITY_M_S2 * d->mass[i], 0};
+        float f[3] = {0, -gravity * d->mass[i], 0};
         gather_springs(d, i, d->fs, f);
         gather_joints(d, i, d->fj, f);
         float *v = d->v + 3 * i, *x = d->x + 3 * i;
         for (int k = 0; k < 3; k++)
             v[k] += dt * (f[k] / d->mass[i] - GAR_DAMPING_PER_S * v[k]);
         float p[3] = {x[0] + dt * v[0], x[1] + dt * v[1], x[2] + dt * v[2]}, push[3], nn[3];
-        if (gar_body_maps_collide(&d->maps, p, GAR_BODY_MARGIN_M, push, nn)) {
+        if (gar_body_maps_collide(d->maps, p, GAR_BODY_MARGIN_M, push, nn)) {
             float vn = v[0] * nn[0] + v[1] * nn[1] + v[2] * nn[2];
             for (int k = 0; k < 3; k++) {
                 x[k] += push[k];
@@ -180,80 +258,22 @@ static void step(dress *d, int with_cc)
             }
         }
     }
-    /* Loop 5: velocity correction. Over-elongated stretch springs lose the relative velocity
-     * that stretches them and gain one that brings them back to max_strain within the step;
-     * open joints close at GAR_SEAM_TAU_S. Corrections are shared by each vertex's count. */
-#pragma omp parallel for schedule(static)
-    for (int s = 0; s < d->sp.n_stretch; s++) {
-        int ia = d->sp.ends[2 * s], ib = d->sp.ends[2 * s + 1];
-        const float *a = d->x + 3 * ia, *b = d->x + 3 * ib, *va = d->v + 3 * ia,
-                    *vb = d->v + 3 * ib;
-        float e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        float l = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]),
-              lmax = d->sp.rest_m[s] * (1 + d->max_strain);
-        float corr = 0;
-        if (l > 0) {
-            float rel =
-                ((vb[0] - va[0]) * e[0] + (vb[1] - va[1]) * e[1] + (vb[2] - va[2]) * e[2]) / l;
-            float want = (lmax - l) / dt; /* negative when over-long: shorten */
-            float after = l + rel * dt;
-            if (after > lmax)
-                corr = fmaxf(want - rel, -GAR_MAX_CORRECTION_M_S);
-        }
-        for (int k = 0; k < 3; k++)
-            d->dv[3 * s + k] = l > 0 ? 0.5f * corr * e[k] / l : 0;
-    }
-#pragma omp parallel for schedule(static)
-    for (int j = 0; j < nj; j++) {
-        float p[3];
-        partner(d, &m->joints[j], p);
-        const gar_joint *jt = &m->joints[j];
-        const float *a = d->x + 3 * jt->a, *va = d->v + 3 * jt->a;
-        /* The relative velocity set to the one that closes the gap in GAR_SEAM_TAU_S. */
-        float want[3], wl = 0;
-        for (int k = 0; k < 3; k++)
-            want[k] = (p[k] - a[k]) / GAR_SEAM_TAU_S, wl += want[k] * want[k];
-        float cap = wl > GAR_MAX_CORRECTION_M_S * GAR_MAX_CORRECTION_M_S
-                        ? GAR_MAX_CORRECTION_M_S / sqrtf(wl)
-                        : 1.0f;
-        for (int k = 0; k < 3; k++) {
-            float vp = (1 - jt->w) * d->v[3 * jt->b0 + k] + jt->w * d->v[3 * jt->b1 + k];
-            d->dvj[3 * j + k] = 0.5f * (cap * want[k] - (va[k] - vp));
-        }
-    }
+    for (int it = 0; it < GAR_CORRECTION_ROUNDS; it++)
+        correct_velocities(d);
     if (with_cc && d->cc) {
         memset(d->push, 0, (size_t)n * 3 * sizeof *d->push);
         gar_cc_repel(d->cc, d->x, GAR_CLOTH_THICKNESS_M, d->push);
     }
-    /* Loop 6: new positions, after the corrections are gathered. */
+    /* Loop 6: new positions; the floor (y = 0) holds what reaches it. */
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; i++) {
-        float c[3] = {0, 0, 0}, cj[3] = {0, 0, 0};
-        int active = 0; /* Jacobi: a vertex in several over-long springs averages them */
-        for (int q = d->sp.vert_offset[i]; q < d->sp.vert_offset[i + 1]; q++) {
-            int sp = d->sp.vert_springs[q];
-            if (sp >= d->sp.n_stretch)
-                continue;
-            float sign = d->sp.ends[2 * sp] == i ? 1.0f : -1.0f; /* a slows, b speeds */
-            const float *dv = d->dv + 3 * sp;
-            if (dv[0] != 0 || dv[1] != 0 || dv[2] != 0)
-                active++;
-            for (int k = 0; k < 3; k++)
-                c[k] += sign * dv[k];
-        }
-        float *v = d->v + 3 * i;
+        float *v = d->v + 3 * i, *x = d->x + 3 * i;
         for (int k = 0; k < 3; k++)
-            v[k] -= c[k] / (active > 0 ? active : 1);
-        int nji = d->vj_offset[i + 1] - d->vj_offset[i];
-        if (nji > 0) {
-            gather_joints(d, i, d->dvj, cj);
-            for (int k = 0; k < 3; k++)
-                v[k] += cj[k] / nji;
-        }
-        for (int k = 0; k < 3; k++) {
-            d->x[3 * i + k] += dt * v[k];
-            if (with_cc && d->cc)
-                d->x[3 * i + k] += d->push[3 * i + k];
+            x[k] += dt * v[k] + (with_cc && d->cc ? d->push[3 * i + k] : 0);
+        if (x[1] < GAR_BODY_MARGIN_M) {
+            x[1] = GAR_BODY_MARGIN_M;
+            v[1] = fmaxf(v[1], 0);
+            v[0] *= 1 - d->friction, v[2] *= 1 - d->friction;
         }
     }
 }
@@ -277,7 +297,8 @@ static void dress_free(dress *d)
     free(d->v), free(d->mass), free(d->fs), free(d->fj), free(d->dv), free(d->dvj), free(d->push);
     free(d->vj_offset), free(d->vj), free(d->skip);
     gar_springs_free(&d->sp);
-    gar_body_maps_free(&d->maps);
+    for (int a = 0; a < 3; a++)
+        gar_body_maps_free(&d->maps[a]);
     gar_cc_destroy(d->cc);
 }
 
@@ -311,7 +332,7 @@ static int dress_init(dress *d, gar_mesh *m, const fit_model *body, const gar_dr
     d->kj = d->k[GAR_STRETCH];
     rc = gar_body_maps_render(fit_model_rest_vertices(body), fit_model_vertex_count(body),
                               fit_model_triangles(body), fit_model_triangle_count(body), pixel,
-                              &d->maps);
+                              d->maps);
     if (rc)
         return rc;
     mark_seams(d);
@@ -335,10 +356,11 @@ int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const fit_model *body,
     }
     float max_seam = desc && desc->max_seaming_s > 0 ? desc->max_seaming_s : 2.0f;
     int drape = desc && desc->drape_steps > 0 ? desc->drape_steps : 300;
+    /* Seaming without gravity (an open panel has nothing to hang from), then draping with it. */
     int seaming_steps = (int)(max_seam / d.dt), s = 0;
     st->seaming_s = -1;
     for (; s < seaming_steps; s++) {
-        step(&d, s % GAR_CC_EVERY == 0);
+        step(&d, s % GAR_CC_EVERY == 0, 0.0f);
         if (s % 20 == 19 && max_gap(&d) < GAR_SEAM_CLOSED_M) {
             st->seaming_s = (s + 1) * d.dt;
             s++;
@@ -346,7 +368,7 @@ int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const fit_model *body,
         }
     }
     for (int k = 0; k < drape; k++, s++)
-        step(&d, s % GAR_CC_EVERY == 0);
+        step(&d, s % GAR_CC_EVERY == 0, GAR_GRAVITY_M_S2);
     st->steps = s;
     dress_free(&d);
     st->ms = (float)(now_ms() - t0);

@@ -190,7 +190,8 @@ static float radius_at(const part_axis *ax, float s)
 }
 
 /* The file's facing of a panel and the u at which it faces the axis. */
-static void panel_frame(const gar_panel *pn, const part_axis *ax, float hs, float *e1, float *uc)
+static void panel_frame(const gar_panel *pn, const part_axis *ax, int torso, float hs, float *e1,
+                        float *uc)
 {
     float o[2] = {0, 0}, ux[2] = {1, 0}, vy[2] = {0, 1}, w0[3], wu[3], wv[3], n[3], du[3], dv[3];
     gar_panel_to_world(pn, o, w0);
@@ -199,10 +200,17 @@ static void panel_frame(const gar_panel *pn, const part_axis *ax, float hs, floa
     sub3(wu, w0, du);
     sub3(wv, w0, dv);
     cross3(du, dv, n);
-    if (ax->vertical) { /* facing: the file normal made horizontal; u centred on the axis */
+    float lo = INFINITY, hi = -INFINITY;
+    for (int v = 0; v < pn->num_vertices; v++)
+        lo = fminf(lo, pn->uv_m[2 * v]), hi = fmaxf(hi, pn->uv_m[2 * v]);
+    if (ax->vertical) { /* facing: the file normal made horizontal */
         e1[0] = n[0], e1[1] = 0, e1[2] = n[2];
         norm3(e1);
-        float a[3];
+        if (!torso) { /* a leg panel centred on its leg */
+            *uc = (lo + hi) / 2;
+            return;
+        }
+        float a[3]; /* a torso panel keeps the file's centring on the body's axis */
         axis_point(ax, w0[1] * hs, a);
         *uc = (a[0] - w0[0] * hs) * du[0] + (a[2] - w0[2] * hs) * du[2];
         return;
@@ -212,9 +220,6 @@ static void panel_frame(const gar_panel *pn, const part_axis *ax, float hs, floa
     for (int k = 0; k < 3; k++)
         e1[k] = z[k] - zd * ax->dir[k];
     norm3(e1);
-    float lo = INFINITY, hi = -INFINITY;
-    for (int v = 0; v < pn->num_vertices; v++)
-        lo = fminf(lo, pn->uv_m[2 * v]), hi = fmaxf(hi, pn->uv_m[2 * v]);
     *uc = (lo + hi) / 2;
 }
 
@@ -235,7 +240,7 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, con
         gar_part part = gar_panel_part(p, pi);
         build_axis(part, jn, body, xyz, ax);
         float e1[3], e2[3], tv[3], uc, vmax = -INFINITY;
-        panel_frame(pn, ax, hs, e1, &uc);
+        panel_frame(pn, ax, part == GAR_PART_TORSO, hs, e1, &uc);
         for (int v = 0; v < pn->num_vertices; v++)
             vmax = fmaxf(vmax, pn->uv_m[2 * v + 1]);
         /* +v runs up the body, or up the limb towards the shoulder; e2 = tv x e1 makes +u
