@@ -185,10 +185,12 @@ int main(int argc, char **argv)
     for (int i = 0; i < n; i++) {
         ok[i] = !run(argv[first + i], &o, body, i, &st[i], &verts[i]);
         failed += !ok[i];
+        const char *base = strrchr(argv[first + i], '/');
         if (ok[i])
-            printf("%-28.28s %8.0f %8.2f %8.3f %6d %8.4f %8.4f %6d %6d %4d\n", argv[first + i],
-                   st[i].ms, st[i].seam_gap_mm, st[i].seaming_s, st[i].penetrating,
-                   st[i].max_strain, st[i].p99_strain, st[i].crossings, verts[i], st[i].threads);
+            printf("%-28.28s %8.0f %8.2f %8.3f %6d %8.4f %8.4f %6d %6d %4d\n",
+                   base ? base + 1 : argv[first + i], st[i].ms, st[i].seam_gap_mm, st[i].seaming_s,
+                   st[i].penetrating, st[i].max_strain, st[i].p99_strain, st[i].crossings, verts[i],
+                   st[i].threads);
     }
     for (int i = 0; i < n; i++)
         if (ok[i])

@@ -52,6 +52,7 @@ typedef struct dress {
     gar_body_maps maps[3];
     gar_cc *cc;
     uint8_t *skip;
+    uint8_t *welded; /* per joint: closed once, sewn from then on */
 } dress;
 
 static double now_ms(void)
@@ -143,6 +144,31 @@ static void gather_springs(const dress *d, int i, const float *per_spring, float
         float sign = d->sp.ends[2 * s] == i ? 1.0f : -1.0f;
         for (int k = 0; k < 3; k++)
             out[k] += sign * per_spring[3 * s + k];
+    }
+}
+
+/* A joint that has closed to GAR_SEAM_CLOSED_M is sewn: from then on, after each step, its two
+ * sides are moved to their common point (in joint order, so the result does not depend on the
+ * thread count). */
+static void sew(dress *d)
+{
+    const gar_mesh *m = d->m;
+    for (int j = 0; j < m->num_joints; j++) {
+        const gar_joint *jt = &m->joints[j];
+        float p[3], *a = d->x + 3 * jt->a, g2 = 0;
+        partner(d, jt, p);
+        for (int k = 0; k < 3; k++)
+            g2 += (p[k] - a[k]) * (p[k] - a[k]);
+        if (!d->welded[j] && g2 > GAR_SEAM_CLOSED_M * GAR_SEAM_CLOSED_M)
+            continue;
+        d->welded[j] = 1;
+        for (int k = 0; k < 3; k++) {
+            float mid = 0.5f * (a[k] + p[k]), shift = mid - p[k];
+            a[k] = mid;
+            d->x[3 * jt->b0 + k] += shift;
+            if (jt->b1 != jt->b0)
+                d->x[3 * jt->b1 + k] += shift;
+        }
     }
 }
 
@@ -276,6 +302,7 @@ static void step(dress *d, int with_cc, float gravity)
             v[0] *= 1 - d->friction, v[2] *= 1 - d->friction;
         }
     }
+    sew(d);
 }
 
 static float max_gap(const dress *d)
@@ -295,7 +322,7 @@ static float max_gap(const dress *d)
 static void dress_free(dress *d)
 {
     free(d->v), free(d->mass), free(d->fs), free(d->fj), free(d->dv), free(d->dvj), free(d->push);
-    free(d->vj_offset), free(d->vj), free(d->skip);
+    free(d->vj_offset), free(d->vj), free(d->skip), free(d->welded);
     gar_springs_free(&d->sp);
     for (int a = 0; a < 3; a++)
         gar_body_maps_free(&d->maps[a]);
@@ -317,7 +344,9 @@ static int dress_init(dress *d, gar_mesh *m, const fit_model *body, const gar_dr
     d->fs = malloc(s3 * sizeof *d->fs), d->dv = malloc(s3 * sizeof *d->dv);
     d->fj = malloc(j3 * sizeof *d->fj), d->dvj = malloc(j3 * sizeof *d->dvj);
     d->push = calloc(n3, sizeof *d->push), d->skip = calloc((size_t)d->n, 1);
-    if (!d->v || !d->mass || !d->fs || !d->dv || !d->fj || !d->dvj || !d->push || !d->skip)
+    d->welded = calloc((size_t)m->num_joints + 1, 1);
+    if (!d->v || !d->mass || !d->fs || !d->dv || !d->fj || !d->dvj || !d->push || !d->skip ||
+        !d->welded)
         return -GAR_ERR_NO_MEMORY;
     if ((rc = joint_csr(d)))
         return rc;
