@@ -172,17 +172,17 @@ def skirt():
 
 def jeans():
     # Drawn as seen from the front, the body's right leg (world -x); hem at y = 6 (ankle).
-    fr = Panel([(-16, 6), (-3, 6), (4, 74), (0, 84), (0, 104), (-20.5, 104), (-25, 84)],
+    fr = Panel([(-16, 6), (-3, 6), (4, 74), (0, 84), (0, 104), (-21.5, 104), (-25, 84)],
                [("hem", None), ("inseam", None), ("crotch", ("q", (0, 74))), ("centre", None),
                 ("waist", None), ("hip", ("q", (-23.5, 95))), ("side", None)])
-    br_world = Panel([(-17.5, 6), (-2.5, 6), (8, 72), (2, 86), (3, 106), (-19.5, 104), (-27, 84)],
+    br_world = Panel([(-17.5, 6), (-2.5, 6), (8, 72), (2, 86), (3, 106), (-20.5, 104), (-27, 84)],
                      [("hem", None), ("inseam", None), ("crotch", ("q", (2, 73))),
                       ("centre", None), ("waist", None), ("hip", ("q", (-24.5, 95))),
                       ("side", None)])
     br = br_world.mirrored()  # in its own frame, which faces -z
     fl, bl = fr.mirrored(), br_world
-    panels = {"front_r": (fr, (0, 2, 12), FRONT), "front_l": (fl, (0, 2, 12), FRONT),
-              "back_r": (br, (0, 2, -13), BACK), "back_l": (bl, (0, 2, -13), BACK)}
+    panels = {"front_r": (fr, (0, 5, 12), FRONT), "front_l": (fl, (0, 5, 12), FRONT),
+              "back_r": (br, (0, 5, -13), BACK), "back_l": (bl, (0, 5, -13), BACK)}
     st = []
     for side in "rl":
         st += [(("front_" + side, "side"), ("back_" + side, "side")),
