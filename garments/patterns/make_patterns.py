@@ -126,7 +126,7 @@ def tshirt():
     sleeve = Panel([(-17, 0), (17, 0), (19, 20), (0, 30), (-19, 20)],
                    [("cuff", None), ("under_r", None), ("cap_a", None), ("cap_b", None),
                     ("under_l", None)])
-    panels = {"front": (front, (0, 50, 16), FRONT), "back": (back, (0, 50, -16), BACK),
+    panels = {"front": (front, (0, 57, 16), FRONT), "back": (back, (0, 57, -16), BACK),
               "sleeve_l": (sleeve, (48, 120, 0), (0, 0, 90)),
               "sleeve_r": (sleeve, (-48, 120, 0), (0, 0, -90))}
     st = [(("front", "side_r0"), ("back", "side_r0")), (("front", "side_l0"), ("back", "side_l0")),
@@ -148,7 +148,7 @@ def dress():
                    ("side_l2", None), ("side_l1", None), ("side_l0", None)])
     back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 92)))] + front.edges[7:])
     back = back.mirrored()
-    panels = {"front": (front, (0, 50, 15), FRONT), "back": (back, (0, 50, -15), BACK)}
+    panels = {"front": (front, (0, 57, 15), FRONT), "back": (back, (0, 57, -15), BACK)}
     st = []
     for k in range(3):
         st.append((("front", "side_r%d" % k), ("back", "side_r%d" % k)))
