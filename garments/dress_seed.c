@@ -35,7 +35,7 @@
 #define GAR_SEAM_MIN_STEPS    4.0f
 /* Seams close no faster than this (m/s), so the panels' interiors, which the velocity
  * correction reaches a ring of springs per round, can follow their edges. */
-#define GAR_SEAM_SPEED_M_S 0.15f
+#define GAR_SEAM_SPEED_M_S 0.5f
 /* Cloth thickness for the body (image space) and between panels. */
 #define GAR_BODY_MARGIN_M     0.003f
 #define GAR_CLOTH_THICKNESS_M 0.003f
