@@ -38,11 +38,13 @@ typedef struct gar_reject {
     char detail[200]; /* where: "panel 'front': edge 3: circle radius -2 not positive" */
 } gar_reject;
 
-/* Limits on what a file may ask for (the data sets' largest patterns have ~40 panels). */
+/* Limits on what a file may ask for (the data sets' largest patterns have ~40 panels of
+ * under 100 edges); coordinates and radii beyond GAR_MAX_COORD_M are refused. */
 #define GAR_MAX_PANELS         128
-#define GAR_MAX_PANEL_VERTICES 1024
+#define GAR_MAX_PANEL_VERTICES 256
 #define GAR_MAX_STITCHES       1024
 #define GAR_NAME_LEN           64
+#define GAR_MAX_COORD_M        100.0
 
 typedef enum gar_curve { GAR_LINE, GAR_QUADRATIC, GAR_CUBIC, GAR_CIRCLE } gar_curve;
 

@@ -10,7 +10,11 @@
 /* Spacing limits: below 2 mm a panel has millions of points, above 0.5 m it is no cloth. */
 #define GAR_MIN_SPACING_M     0.002f
 #define GAR_MAX_SPACING_M     0.5f
-#define GAR_MAX_MESH_VERTICES 400000
+#define GAR_MAX_MESH_VERTICES 200000
+/* Points a panel may have: the Delaunay step is O(n^2) (about a second at this many), and a
+ * pattern is untrusted: a 100 m panel must be refused, not meshed for hours. 20,000 points is
+ * a 6 m^2 panel at 2 cm. */
+#define GAR_MAX_PANEL_POINTS 20000
 
 /* Samples per edge: about one per spacing; stitched edges of equal length share a count. */
 static int *edge_counts(const gar_pattern *p, const int *first, int ne, float h)
@@ -57,7 +61,7 @@ static int grid_points(const float *poly, int nb, float h, double **pts, int *ni
      * points are cocircular, which keeps the Delaunay step away from its degenerate case. */
     double dy = h * 0.8660254037844386;
     int cols = (int)((hi[0] - lo[0]) / h) + 2, rows = (int)((hi[1] - lo[1]) / dy) + 1;
-    if ((double)cols * rows > GAR_MAX_MESH_VERTICES)
+    if ((double)cols * rows > GAR_MAX_PANEL_POINTS)
         return -GAR_ERR_TOO_LARGE;
     double *p = malloc(((size_t)nb + (size_t)cols * rows + 3) * 2 * sizeof *p);
     if (!p)
@@ -118,8 +122,9 @@ static int mesh_panel(const gar_panel *pn, const int *ecount, float h, panel_mes
     int nb = 0;
     for (int e = 0; e < pn->num_edges; e++)
         nb += ecount[e];
-    if (nb > GAR_MAX_MESH_VERTICES)
-        return gar_refuse(why, GAR_ERR_TOO_LARGE, "panel '%s': %d outline samples", pn->name, nb);
+    if (nb > GAR_MAX_PANEL_POINTS)
+        return gar_refuse(why, GAR_ERR_TOO_LARGE, "panel '%s': %d outline samples (at most %d)",
+                          pn->name, nb, GAR_MAX_PANEL_POINTS);
     float *poly = malloc(((size_t)nb + 1) * 2 * sizeof *poly);
     if (!poly)
         return gar_refuse(why, GAR_ERR_NO_MEMORY, "panel '%s'", pn->name);
@@ -128,7 +133,8 @@ static int mesh_panel(const gar_panel *pn, const int *ecount, float h, panel_mes
     pm->nb = nb;
     int rc = grid_points(poly, nb, h, &pm->pts, &pm->ni);
     if (rc)
-        rc = gar_refuse(why, -rc, "panel '%s': grid at %.4g m spacing", pn->name, h);
+        rc = gar_refuse(why, -rc, "panel '%s': more than %d points at %.4g m spacing", pn->name,
+                        GAR_MAX_PANEL_POINTS, h);
     if (!rc && gar_delaunay(pm->pts, nb + pm->ni, &pm->tris, &pm->nt))
         rc = gar_refuse(why, GAR_ERR_NO_MEMORY, "panel '%s': triangulation", pn->name);
     if (!rc)

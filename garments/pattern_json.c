@@ -11,6 +11,9 @@
 
 /* A pattern file larger than this is not a sewing pattern (the data sets' are under 100 KB). */
 #define GAR_MAX_FILE_BYTES (16 * 1024 * 1024)
+/* Relative control coordinates beyond this are no garment curve (the data sets' stay within
+ * about 1). */
+#define GAR_MAX_RELATIVE 100.0
 
 static const char *const error_names[] = {
 #define GAR_ERROR_NAME(id, text) #id,
@@ -73,6 +76,7 @@ static int read_vec(const cJSON *j, int n, double *out)
 /* Relative control point: P = S + cx (E - S) + cy perp(E - S), perp(x, y) = (-y, x). */
 static void rel_to_abs(const float s[2], const float e[2], const double c[2], float out[2])
 {
+    /* Callers check |c| <= GAR_MAX_RELATIVE first, so the point stays finite. */
     double dx = e[0] - s[0], dy = e[1] - s[1];
     out[0] = (float)(s[0] + c[0] * dx - c[1] * dy);
     out[1] = (float)(s[1] + c[0] * dy + c[1] * dx);
@@ -84,10 +88,10 @@ static int read_curvature(const cJSON *cv, gar_panel *pn, gar_edge *ed, int ei, 
     const float *s = pn->uv_m + 2 * ed->v0, *e = pn->uv_m + 2 * ed->v1;
     double c[2];
     if (cJSON_IsArray(cv)) { /* the older encoding: one quadratic control point */
-        if (read_vec(cv, 2, c))
+        if (read_vec(cv, 2, c) || fabs(c[0]) > GAR_MAX_RELATIVE || fabs(c[1]) > GAR_MAX_RELATIVE)
             return gar_refuse(why, GAR_ERR_CURVE,
-                              "panel '%s': edge %d: curvature must be [cx, cy] finite", pn->name,
-                              ei);
+                              "panel '%s': edge %d: curvature must be [cx, cy] within %g", pn->name,
+                              ei, GAR_MAX_RELATIVE);
         ed->kind = GAR_QUADRATIC;
         rel_to_abs(s, e, c, ed->ctrl[0]);
         return 0;
@@ -111,10 +115,12 @@ static int read_curvature(const cJSON *cv, gar_panel *pn, gar_edge *ed, int ei, 
                               "panel '%s': edge %d: %s curvature needs %d control point(s), has %d",
                               pn->name, ei, t, n, cJSON_GetArraySize(params));
         for (int k = 0; k < n; k++) {
-            if (read_vec(cJSON_GetArrayItem(params, k), 2, c))
-                return gar_refuse(why, GAR_ERR_CURVE,
-                                  "panel '%s': edge %d: control point %d must be [cx, cy] finite",
-                                  pn->name, ei, k);
+            if (read_vec(cJSON_GetArrayItem(params, k), 2, c) || fabs(c[0]) > GAR_MAX_RELATIVE ||
+                fabs(c[1]) > GAR_MAX_RELATIVE)
+                return gar_refuse(
+                    why, GAR_ERR_CURVE,
+                    "panel '%s': edge %d: control point %d must be [cx, cy] within %g", pn->name,
+                    ei, k, GAR_MAX_RELATIVE);
             rel_to_abs(s, e, c, ed->ctrl[k]);
         }
         ed->kind = n == 1 ? GAR_QUADRATIC : GAR_CUBIC;
@@ -129,11 +135,13 @@ static int read_curvature(const cJSON *cv, gar_panel *pn, gar_edge *ed, int ei, 
                               "panel '%s': edge %d: circle params must be [radius, large_arc, "
                               "right] numbers",
                               pn->name, ei);
-        if (!(r > 0) || (large != 0 && large != 1) || (right != 0 && right != 1))
-            return gar_refuse(why, GAR_ERR_CURVE,
-                              "panel '%s': edge %d: circle radius %g must be > 0 and flags %g, %g "
-                              "0 or 1",
-                              pn->name, ei, r, large, right);
+        if (!(r > 0) || !(r / scale <= GAR_MAX_COORD_M) || (large != 0 && large != 1) ||
+            (right != 0 && right != 1))
+            return gar_refuse(
+                why, GAR_ERR_CURVE,
+                "panel '%s': edge %d: circle radius %g must be in (0, %g m] and flags "
+                "%g, %g 0 or 1",
+                pn->name, ei, r, GAR_MAX_COORD_M, large, right);
         ed->kind = GAR_CIRCLE;
         ed->radius_m = (float)(r / scale);
         ed->large_arc = (int)large;
@@ -203,6 +211,9 @@ static int read_panel(const cJSON *jp, gar_panel *pn, double scale, gar_reject *
         if (read_vec(cJSON_GetArrayItem(verts, i), 2, p))
             return gar_refuse(why, GAR_ERR_TYPE, "panel '%s': vertex %d must be [x, y] finite",
                               pn->name, i);
+        if (!(fabs(p[0] / scale) <= GAR_MAX_COORD_M && fabs(p[1] / scale) <= GAR_MAX_COORD_M))
+            return gar_refuse(why, GAR_ERR_RANGE, "panel '%s': vertex %d beyond %g m", pn->name, i,
+                              GAR_MAX_COORD_M);
         pn->uv_m[2 * i] = (float)(p[0] / scale);
         pn->uv_m[2 * i + 1] = (float)(p[1] / scale);
     }
@@ -218,6 +229,11 @@ static int read_panel(const cJSON *jp, gar_panel *pn, double scale, gar_reject *
         return gar_refuse(why, GAR_ERR_TYPE,
                           "panel '%s': translation and rotation must be 3 finite numbers",
                           pn->name);
+    for (int k = 0; k < 3; k++)
+        if (!(fabs(t[k] / scale) <= GAR_MAX_COORD_M && fabs(r[k]) <= 1e4))
+            return gar_refuse(why, GAR_ERR_RANGE,
+                              "panel '%s': translation beyond %g m or rotation beyond 1e4 degrees",
+                              pn->name, GAR_MAX_COORD_M);
     for (int k = 0; k < 3; k++) {
         pn->translation_m[k] = (float)(t[k] / scale);
         pn->rotation_deg[k] = (float)r[k];

@@ -205,6 +205,15 @@ static void test_mesh_refuses_bad_spacing(void **state)
                      -GAR_ERR_RANGE);
     assert_null(m.triangles);
     gar_pattern_free(&p);
+    /* A 40 m square at 2 cm would be 4 million points: refused, naming the panel. */
+    load("{\"pattern\": {\"panels\": {\"big\": {\"vertices\": [[0,0],[4000,0],[4000,4000],"
+         "[0,4000]], \"edges\": [{\"endpoints\": [0,1]}, {\"endpoints\": [1,2]},"
+         "{\"endpoints\": [2,3]}, {\"endpoints\": [3,0]}]}}}}",
+         &p);
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.02f}, &m, &why),
+                     -GAR_ERR_TOO_LARGE);
+    assert_non_null(strstr(why.detail, "panel 'big'"));
+    gar_pattern_free(&p);
 }
 
 int main(void)

@@ -250,6 +250,12 @@ static const bad_case bad[] = {
                                                                   "{\"units_in_meter\": 0}}",
      GAR_ERR_RANGE, "units_in_meter"},
     {PAT(TRI("{\"endpoints\": [0,1]}") ", \"b\": 5", ""), GAR_ERR_TYPE, "panel 'b'"},
+    {PAT("\"a\": {\"vertices\": [[0,0],[1e9,0],[0,10]], \"edges\": [{\"endpoints\": [0,1]},"
+         "{\"endpoints\": [1,2]}, {\"endpoints\": [2,0]}]}",
+         ""),
+     GAR_ERR_RANGE, "panel 'a': vertex 1 beyond"},
+    {PAT(TRI("{\"endpoints\": [0,1], \"curvature\": [0.5, 1e30]}"), ""), GAR_ERR_CURVE,
+     "panel 'a': edge 0"},
 };
 
 static void test_malformed_patterns_refused_by_name(void **state)
