@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Writes tryon's shipped sewing patterns (size M, centimetres) in the GarmentCode JSON layout.
+
+Run from this folder: python3 make_patterns.py. The JSON files are committed; this script is
+how they were drawn. Panels are drawn as seen from the front of the body (x = world x, the
+body's left at +x); back panels are mirrored into their own frame, which faces -z (rotation
+180 degrees about y), so every outline runs counter-clockwise seen from outside the body.
+The file placement is for tryon's average body (bodyfit's default shape) standing at the
+origin; garments/place.c re-places panels around any body.
+"""
+import json
+import math
+
+
+def rel(s, e, p):
+    """Absolute control point p to GarmentCode's relative (cx, cy)."""
+    dx, dy = e[0] - s[0], e[1] - s[1]
+    qx, qy = p[0] - s[0], p[1] - s[1]
+    l2 = dx * dx + dy * dy
+    return [round((qx * dx + qy * dy) / l2, 5), round((qy * dx - qx * dy) / l2, 5)]
+
+
+class Panel:
+    """pts: outline corners; edges[i] = (name, curve) from pts[i] to pts[i+1]; curve None, an
+    absolute quadratic control point ("q", (x, y)) or a circle ("c", radius, large, right)."""
+
+    def __init__(self, pts, edges):
+        self.pts = [tuple(p) for p in pts]
+        self.edges = list(edges)
+
+    def mirrored(self):
+        n = len(self.pts)
+        pts = [(-x, y) for x, y in reversed(self.pts)]
+        edges = []
+        for i in range(n):  # new edge i runs from old vertex n-1-i to n-2-i
+            name, curve = self.edges[n - 2 - i]
+            if curve and curve[0] == "q":
+                curve = ("q", (-curve[1][0], curve[1][1]))
+            edges.append((name, curve))
+        return Panel(pts, edges)
+
+    def area(self):
+        a = 0
+        for i in range(len(self.pts)):
+            x0, y0 = self.pts[i]
+            x1, y1 = self.pts[(i + 1) % len(self.pts)]
+            a += x0 * y1 - x1 * y0
+        return a / 2
+
+    def spec(self, translation, rotation):
+        assert self.area() > 0, "outline must run counter-clockwise"
+        n = len(self.pts)
+        edges = []
+        for i, (name, curve) in enumerate(self.edges):
+            e = {"endpoints": [i, (i + 1) % n], "label": name}
+            s, t = self.pts[i], self.pts[(i + 1) % n]
+            if curve and curve[0] == "q":
+                e["curvature"] = {"type": "quadratic", "params": [rel(s, t, curve[1])]}
+            elif curve:
+                e["curvature"] = {"type": "circle", "params": list(curve[1:])}
+            edges.append(e)
+        return {"vertices": [list(p) for p in self.pts], "edges": edges,
+                "translation": list(translation), "rotation": list(rotation)}
+
+    def edge(self, name):
+        return [e[0] for e in self.edges].index(name)
+
+
+FRONT = (0, 0, 0)
+BACK = (0, 180, 0)
+
+
+def world(panel, t, r, p):
+    """File placement of a panel point (rotations about y only are used here)."""
+    a = math.radians(r[1])
+    return (math.cos(a) * p[0] + t[0], p[1] + t[1])
+
+
+def check_direction(panels, a, b):
+    """The two sides of a seam run in opposite directions: a's start meets b's end."""
+    (pa, ea), (pb, eb) = a, b
+    ends = []
+    for pn, en in ((pa, ea), (pb, eb)):
+        panel, t, r = panels[pn]
+        i = panel.edge(en)
+        ends.append([world(panel, t, r, panel.pts[i]),
+                     world(panel, t, r, panel.pts[(i + 1) % len(panel.pts)])])
+    d = lambda p, q: math.hypot(p[0] - q[0], p[1] - q[1])
+    same = d(ends[0][0], ends[1][0]) + d(ends[0][1], ends[1][1])
+    opposite = d(ends[0][0], ends[1][1]) + d(ends[0][1], ends[1][0])
+    assert opposite < same, "seam %s-%s runs the same way on both sides" % (a, b)
+
+
+def write(name, panels, stitches):
+    spec = {"pattern": {"panels": {}, "stitches": [], "panel_order": []},
+            "properties": {"curvature_coords": "relative", "units_in_meter": 100,
+                           "normalize_panel_translation": False},
+            "parameters": {}, "parameter_order": [],
+            "tryon": {"garment": name, "size": "M", "reference_body": "bodyfit average"}}
+    for pname, (panel, t, r) in panels.items():
+        spec["pattern"]["panels"][pname] = panel.spec(t, r)
+        spec["pattern"]["panel_order"].append(pname)
+    for (pa, ea), (pb, eb) in stitches:
+        if panels[pa][2][2] == 0 and panels[pb][2][2] == 0:  # sleeves are placed folded
+            check_direction(panels, (pa, ea), (pb, eb))
+        spec["pattern"]["stitches"].append([
+            {"panel": pa, "edge": panels[pa][0].edge(ea)},
+            {"panel": pb, "edge": panels[pb][0].edge(eb)}])
+    with open(name + ".json", "w") as f:
+        json.dump(spec, f, indent=1)
+        f.write("\n")
+
+
+def tshirt_body(neck):
+    """T-shirt front or back as drawn from the front; neck: the neckline's control height."""
+    return Panel([(-27, 30), (27, 30), (27, 75), (20, 93), (8, 96), (-8, 96), (-20, 93),
+                  (-27, 75)],
+                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (22, 80))),
+                  ("shoulder_r", None), ("neck", ("q", (0, neck))), ("shoulder_l", None),
+                  ("arm_l", ("q", (-22, 80))), ("side_l0", None)])
+
+
+def tshirt():
+    front = tshirt_body(80)
+    back = tshirt_body(92).mirrored()
+    sleeve = Panel([(-17, 0), (17, 0), (19, 20), (0, 30), (-19, 20)],
+                   [("cuff", None), ("under_r", None), ("cap_a", None), ("cap_b", None),
+                    ("under_l", None)])
+    panels = {"front": (front, (0, 57, 16), FRONT), "back": (back, (0, 57, -16), BACK),
+              "sleeve_l": (sleeve, (48, 120, 0), (0, 0, 90)),
+              "sleeve_r": (sleeve, (-48, 120, 0), (0, 0, -90))}
+    st = [(("front", "side_r0"), ("back", "side_r0")), (("front", "side_l0"), ("back", "side_l0")),
+          (("front", "shoulder_r"), ("back", "shoulder_r")),
+          (("front", "shoulder_l"), ("back", "shoulder_l")),
+          (("front", "arm_r"), ("sleeve_l", "cap_b")), (("back", "arm_r"), ("sleeve_l", "cap_a")),
+          (("front", "arm_l"), ("sleeve_r", "cap_a")), (("back", "arm_l"), ("sleeve_r", "cap_b")),
+          (("sleeve_l", "under_r"), ("sleeve_l", "under_l")),
+          (("sleeve_r", "under_r"), ("sleeve_r", "under_l"))]
+    write("tshirt", panels, st)
+
+
+def dress():
+    front = Panel([(-32, 0), (32, 0), (26, 45), (23, 57), (27, 75), (20, 93), (8, 96),
+                   (-8, 96), (-20, 93), (-27, 75), (-23, 57), (-26, 45)],
+                  [("hem", ("c", 200, 0, 1)), ("side_r0", None), ("side_r1", None),
+                   ("side_r2", None), ("arm_r", ("q", (22, 80))), ("shoulder_r", None),
+                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-22, 80))),
+                   ("side_l2", None), ("side_l1", None), ("side_l0", None)])
+    back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 92)))] + front.edges[7:])
+    back = back.mirrored()
+    panels = {"front": (front, (0, 57, 15), FRONT), "back": (back, (0, 57, -15), BACK)}
+    st = []
+    for k in range(3):
+        st.append((("front", "side_r%d" % k), ("back", "side_r%d" % k)))
+        st.append((("front", "side_l%d" % k), ("back", "side_l%d" % k)))
+    st += [(("front", "shoulder_r"), ("back", "shoulder_r")),
+           (("front", "shoulder_l"), ("back", "shoulder_l"))]
+    write("dress", panels, st)
+
+
+def skirt():
+    front = Panel([(-34, 0), (34, 0), (26.5, 39), (22, 59), (-22, 59), (-26.5, 39)],
+                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (25.5, 51))),
+                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-25.5, 51))),
+                   ("side_l0", None)])
+    back = front.mirrored()
+    panels = {"front": (front, (0, 45, 14), FRONT), "back": (back, (0, 45, -14), BACK)}
+    st = [(("front", "side_r%d" % k), ("back", "side_r%d" % k)) for k in range(2)]
+    st += [(("front", "side_l%d" % k), ("back", "side_l%d" % k)) for k in range(2)]
+    write("skirt", panels, st)
+
+
+def jeans():
+    # Drawn as seen from the front, the body's right leg (world -x); hem at y = 6 (ankle).
+    fr = Panel([(-16, 6), (-3, 6), (4, 74), (0, 84), (0, 104), (-21.5, 104), (-25, 84)],
+               [("hem", None), ("inseam", None), ("crotch", ("q", (0, 74))), ("centre", None),
+                ("waist", None), ("hip", ("q", (-23.5, 95))), ("side", None)])
+    br_world = Panel([(-17.5, 6), (-2.5, 6), (8, 72), (2, 86), (3, 106), (-20.5, 104), (-27, 84)],
+                     [("hem", None), ("inseam", None), ("crotch", ("q", (2, 73))),
+                      ("centre", None), ("waist", None), ("hip", ("q", (-24.5, 95))),
+                      ("side", None)])
+    br = br_world.mirrored()  # in its own frame, which faces -z
+    fl, bl = fr.mirrored(), br_world
+    panels = {"front_r": (fr, (0, 5, 12), FRONT), "front_l": (fl, (0, 5, 12), FRONT),
+              "back_r": (br, (0, 5, -13), BACK), "back_l": (bl, (0, 5, -13), BACK)}
+    st = []
+    for side in "rl":
+        st += [(("front_" + side, "side"), ("back_" + side, "side")),
+               (("front_" + side, "hip"), ("back_" + side, "hip")),
+               (("front_" + side, "inseam"), ("back_" + side, "inseam"))]
+    for part in ("front", "back"):
+        st += [((part + "_r", "crotch"), (part + "_l", "crotch")),
+               ((part + "_r", "centre"), (part + "_l", "centre"))]
+    write("jeans", panels, st)
+
+
+if __name__ == "__main__":
+    tshirt()
+    dress()
+    skirt()
+    jeans()

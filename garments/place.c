@@ -1,0 +1,273 @@
+/* Placement around tryon's body: each panel wrapped on a surface of revolution around the body
+ * part it belongs to (torso, an arm, a leg; axes from the body's joints), at its own height,
+ * facing the way the file faces it, a clearance outside the body's widest point at each level.
+ * Arc length along u is kept, so a panel is placed unstretched. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bodyfit.h"
+#include "pattern_internal.h"
+#include "place_internal.h"
+
+#define GAR_DEFAULT_CLEARANCE_M 0.02f
+/* The shipped files are drawn for bodyfit's average body (1.75 m); heights scale from it. */
+#define GAR_REFERENCE_HEIGHT_M 1.75f
+/* Radius profiles in 1 cm bins along each part's axis. */
+#define GAR_PROFILE_BIN_M 0.01f
+#define GAR_PROFILE_BINS  256
+/* Radius change per metre along the axis at most (about 17 degrees). */
+#define GAR_PROFILE_SLOPE 0.3f
+/* Panel classes from the file placement (reference body, metres): arms hang outside 0.25 m
+ * above 1.0 m, legs are panels off the centre line below 0.85 m. */
+#define GAR_ARM_MIN_X 0.25f
+#define GAR_ARM_MIN_Y 1.0f
+#define GAR_LEG_MIN_X 0.03f
+#define GAR_LEG_MAX_Y 0.85f
+
+static void sub3(const float *a, const float *b, float *o)
+{
+    o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2];
+}
+static float dot3(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static void cross3(const float *a, const float *b, float *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static void norm3(float *a)
+{
+    float l = sqrtf(dot3(a, a));
+    if (l > 0)
+        a[0] /= l, a[1] /= l, a[2] /= l;
+}
+
+gar_part gar_panel_part(const gar_pattern *p, int panel)
+{
+    const gar_panel *pn = &p->panels[panel];
+    float c[2] = {0, 0}, w[3];
+    for (int v = 0; v < pn->num_vertices; v++)
+        c[0] += pn->uv_m[2 * v] / pn->num_vertices, c[1] += pn->uv_m[2 * v + 1] / pn->num_vertices;
+    gar_panel_to_world(pn, c, w);
+    if (fabsf(w[0]) > GAR_ARM_MIN_X && w[1] > GAR_ARM_MIN_Y)
+        return w[0] > 0 ? GAR_PART_ARM_L : GAR_PART_ARM_R;
+    if (fabsf(w[0]) > GAR_LEG_MIN_X && w[1] < GAR_LEG_MAX_Y)
+        return w[0] > 0 ? GAR_PART_LEG_L : GAR_PART_LEG_R;
+    return GAR_PART_TORSO;
+}
+
+/* The body's part a vertex belongs to, from its strongest skinning joint. Torso vertices count
+ * for a leg on that leg's side of the pelvis (a waistband wraps the hip). */
+static int vertex_in_part(gar_part part, int joint, float x, float pelvis_x)
+{
+    int arm_l = joint == FIT_L_SHOULDER || joint == FIT_L_ELBOW || joint == FIT_L_WRIST;
+    int arm_r = joint == FIT_R_SHOULDER || joint == FIT_R_ELBOW || joint == FIT_R_WRIST;
+    /* The feet stay out: a hem hangs over them and the push-out step clears them. */
+    int leg_l = joint >= FIT_L_HIP && joint <= FIT_L_ANKLE;
+    int leg_r = joint >= FIT_R_HIP && joint <= FIT_R_ANKLE;
+    if (joint == FIT_L_TOE || joint == FIT_R_TOE)
+        return 0;
+    int torso = !arm_l && !arm_r && !leg_l && !leg_r && joint != FIT_HEAD;
+    switch (part) {
+    case GAR_PART_ARM_L:
+        return arm_l;
+    case GAR_PART_ARM_R:
+        return arm_r;
+    case GAR_PART_LEG_L:
+        return leg_l || (torso && x >= pelvis_x);
+    case GAR_PART_LEG_R:
+        return leg_r || (torso && x <= pelvis_x);
+    case GAR_PART_TORSO:
+    default:
+        return torso || leg_l || leg_r;
+    }
+}
+
+/* A part's axis: vertical parts use height for s and a vertical line through the axis point;
+ * arms use distance from the shoulder along the shoulder-wrist line. */
+typedef struct part_axis {
+    int vertical;
+    float top[3], bottom[3], dir[3]; /* dir: unit top -> bottom */
+    float length;
+    float radius[GAR_PROFILE_BINS];
+} part_axis;
+
+static void axis_point(const part_axis *ax, float s, float out[3])
+{
+    if (ax->vertical) { /* s = height: interpolate between the joints, clamped */
+        float t = (ax->top[1] - s) / (ax->top[1] - ax->bottom[1]);
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        for (int k = 0; k < 3; k++)
+            out[k] = ax->top[k] + t * (ax->bottom[k] - ax->top[k]);
+        out[1] = s;
+        return;
+    }
+    for (int k = 0; k < 3; k++)
+        out[k] = ax->top[k] + s * ax->dir[k];
+}
+
+/* s of a point and its distance from the axis. */
+static void axis_coords(const part_axis *ax, const float *p, float *s, float *r)
+{
+    float a[3], d[3];
+    if (ax->vertical) {
+        *s = p[1];
+        axis_point(ax, p[1], a);
+        *r = hypotf(p[0] - a[0], p[2] - a[2]);
+        return;
+    }
+    sub3(p, ax->top, d);
+    *s = dot3(d, ax->dir);
+    axis_point(ax, *s, a);
+    sub3(p, a, d);
+    *r = sqrtf(dot3(d, d));
+}
+
+static int bin_of(const part_axis *ax, float s)
+{
+    float base = ax->vertical ? 0.0f : -0.5f; /* arms: half a metre above the shoulder */
+    int b = (int)floorf((s - base) / GAR_PROFILE_BIN_M);
+    return b < 0 ? 0 : b >= GAR_PROFILE_BINS ? GAR_PROFILE_BINS - 1 : b;
+}
+
+static void build_axis(gar_part part, const float *joints, const fit_model *body, const float *xyz,
+                       part_axis *ax)
+{
+    static const int ends[GAR_PART_COUNT][2] = {{FIT_PELVIS, FIT_PELVIS},
+                                                {FIT_L_SHOULDER, FIT_L_WRIST},
+                                                {FIT_R_SHOULDER, FIT_R_WRIST},
+                                                {FIT_L_HIP, FIT_L_ANKLE},
+                                                {FIT_R_HIP, FIT_R_ANKLE}};
+    memset(ax, 0, sizeof *ax);
+    ax->vertical = part == GAR_PART_TORSO || part == GAR_PART_LEG_L || part == GAR_PART_LEG_R;
+    memcpy(ax->top, joints + 3 * ends[part][0], sizeof ax->top);
+    memcpy(ax->bottom, joints + 3 * ends[part][1], sizeof ax->bottom);
+    if (part == GAR_PART_TORSO)
+        ax->top[1] += 1, ax->bottom[1] -= 1; /* a vertical line through the pelvis */
+    sub3(ax->bottom, ax->top, ax->dir);
+    ax->length = sqrtf(dot3(ax->dir, ax->dir));
+    norm3(ax->dir);
+    int nv = fit_model_vertex_count(body);
+    const uint8_t *wj = fit_model_weight_joints(body);
+    const float *ww = fit_model_weights(body);
+    float pelvis_x = joints[3 * FIT_PELVIS];
+    for (int v = 0; v < nv; v++) {
+        int best = 0;
+        for (int k = 1; k < FIT_MAX_INFLUENCES; k++)
+            if (ww[4 * v + k] > ww[4 * v + best])
+                best = k;
+        if (!vertex_in_part(part, wj[4 * v + best], xyz[3 * v], pelvis_x))
+            continue;
+        float s, r;
+        axis_coords(ax, xyz + 3 * v, &s, &r);
+        int b = bin_of(ax, s);
+        ax->radius[b] = fmaxf(ax->radius[b], r);
+    }
+    /* The profile dilated by a cone of slope GAR_PROFILE_SLOPE: it clears every slice and
+     * changes gently from row to row, so a panel's rows stay close to their rest spacing. */
+    float r[GAR_PROFILE_BINS];
+    for (int i = 0; i < GAR_PROFILE_BINS; i++) {
+        r[i] = 0;
+        for (int k = 0; k < GAR_PROFILE_BINS; k++)
+            r[i] = fmaxf(r[i], ax->radius[k] - GAR_PROFILE_SLOPE * GAR_PROFILE_BIN_M * abs(i - k));
+    }
+    memcpy(ax->radius, r, sizeof r);
+}
+
+/* Radius at s: the widest body slice within two bins, so neighbouring rows see the same body. */
+static float radius_at(const part_axis *ax, float s)
+{
+    int b = bin_of(ax, s);
+    float r = 0;
+    for (int k = b - 2; k <= b + 2; k++)
+        if (k >= 0 && k < GAR_PROFILE_BINS)
+            r = fmaxf(r, ax->radius[k]);
+    return r;
+}
+
+/* The file's facing of a panel and the u at which it faces the axis. */
+static void panel_frame(const gar_panel *pn, const part_axis *ax, int torso, float hs, float *e1,
+                        float *uc)
+{
+    float o[2] = {0, 0}, ux[2] = {1, 0}, vy[2] = {0, 1}, w0[3], wu[3], wv[3], n[3], du[3], dv[3];
+    gar_panel_to_world(pn, o, w0);
+    gar_panel_to_world(pn, ux, wu);
+    gar_panel_to_world(pn, vy, wv);
+    sub3(wu, w0, du);
+    sub3(wv, w0, dv);
+    cross3(du, dv, n);
+    float lo = INFINITY, hi = -INFINITY;
+    for (int v = 0; v < pn->num_vertices; v++)
+        lo = fminf(lo, pn->uv_m[2 * v]), hi = fmaxf(hi, pn->uv_m[2 * v]);
+    if (ax->vertical) { /* facing: the file normal made horizontal */
+        e1[0] = n[0], e1[1] = 0, e1[2] = n[2];
+        norm3(e1);
+        if (!torso) { /* a leg panel centred on its leg */
+            *uc = (lo + hi) / 2;
+            return;
+        }
+        float a[3]; /* a torso panel keeps the file's centring on the body's axis */
+        axis_point(ax, w0[1] * hs, a);
+        *uc = (a[0] - w0[0] * hs) * du[0] + (a[2] - w0[2] * hs) * du[2];
+        return;
+    }
+    /* A sleeve wraps the whole limb starting at the front, centred in u. */
+    float z[3] = {0, 0, 1}, zd = dot3(z, ax->dir);
+    for (int k = 0; k < 3; k++)
+        e1[k] = z[k] - zd * ax->dir[k];
+    norm3(e1);
+    *uc = (lo + hi) / 2;
+}
+
+int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, const float *body_xyz,
+                   const float *joints, const gar_place_desc *desc, gar_reject *why)
+{
+    if (!p || !m || !body || m->num_panels != p->num_panels)
+        return gar_refuse(why, GAR_ERR_ARG, "placement needs a pattern, its mesh and a body");
+    const float *xyz = body_xyz ? body_xyz : fit_model_rest_vertices(body);
+    const float *jn = joints ? joints : fit_model_rest_joints(body);
+    float clear = desc && desc->clearance_m > 0 ? desc->clearance_m : GAR_DEFAULT_CLEARANCE_M;
+    float hs = fit_model_shape(body)->height / GAR_REFERENCE_HEIGHT_M;
+    part_axis *ax = malloc(sizeof *ax);
+    if (!ax)
+        return gar_refuse(why, GAR_ERR_NO_MEMORY, "placement");
+    for (int pi = 0; pi < p->num_panels; pi++) {
+        const gar_panel *pn = &p->panels[pi];
+        gar_part part = gar_panel_part(p, pi);
+        build_axis(part, jn, body, xyz, ax);
+        float e1[3], e2[3], tv[3], uc, vmax = -INFINITY;
+        panel_frame(pn, ax, part == GAR_PART_TORSO, hs, e1, &uc);
+        for (int v = 0; v < pn->num_vertices; v++)
+            vmax = fmaxf(vmax, pn->uv_m[2 * v + 1]);
+        /* +v runs up the body, or up the limb towards the shoulder; e2 = tv x e1 makes +u
+         * turn so that the panel's front normal (u x v) points away from the axis. */
+        if (ax->vertical)
+            tv[0] = 0, tv[1] = 1, tv[2] = 0;
+        else
+            tv[0] = -ax->dir[0], tv[1] = -ax->dir[1], tv[2] = -ax->dir[2];
+        cross3(tv, e1, e2);
+        for (int v = 0; v < m->num_vertices; v++) {
+            if (m->panel_of[v] != pi)
+                continue;
+            const float *uv = m->uv_m + 2 * v;
+            float s, w[3], a[3];
+            if (ax->vertical) {
+                gar_panel_to_world(pn, uv, w);
+                s = w[1] * hs;
+            } else {
+                s = (vmax - uv[1]) * hs; /* the cap's top at the shoulder joint */
+            }
+            axis_point(ax, s, a);
+            float r = radius_at(ax, s) + clear, phi = (uv[0] - uc) / r;
+            for (int k = 0; k < 3; k++)
+                m->xyz[3 * v + k] = a[k] + r * (cosf(phi) * e1[k] + sinf(phi) * e2[k]);
+        }
+    }
+    free(ax);
+    int rc = gar_push_out(body, xyz, m->xyz, m->num_vertices, clear);
+    return rc ? gar_refuse(why, -rc, "pushing the placed garment out of the body") : 0;
+}

@@ -1,0 +1,140 @@
+/* The seed dressing's parts: the image-space body agrees with the body mesh, the spring
+ * families are built, and seaming closes a seam. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "bodyfit.h"
+#include "dress_internal.h"
+#include "garments.h"
+
+static fit_model *body_create(void)
+{
+    char err[200];
+    fit_model *b = fit_model_create(
+        &(fit_model_desc){.shape = fit_shape_default(), .target_vertices = 6000}, err, sizeof err);
+    if (!b)
+        fail_msg("body: %s", err);
+    return b;
+}
+
+/* Points around the body, 5 mm or more from its surface: the three-view maps call them inside
+ * exactly when the mesh's signed distance does, but for a visual hull's blind spots (concave
+ * places no axis sees: the armpit, the crotch), which stay under 3 %. */
+static void test_body_maps_agree_with_mesh(void **state)
+{
+    (void)state;
+    fit_model *b = body_create();
+    const float *xyz = fit_model_rest_vertices(b);
+    int nv = fit_model_vertex_count(b);
+    gar_body_maps maps[3];
+    assert_int_equal(gar_body_maps_render(xyz, nv, fit_model_triangles(b),
+                                          fit_model_triangle_count(b), 0.004f, maps),
+                     0);
+    gar_body_sdf *sdf =
+        gar_body_sdf_create(xyz, nv, fit_model_triangles(b), fit_model_triangle_count(b));
+    assert_non_null(sdf);
+    srand(7);
+    int tested = 0, wrong = 0, inside = 0;
+    for (int i = 0; i < 20000; i++) {
+        const float *q = xyz + 3 * (rand() % nv);
+        float p[3], push[3], n[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = q[k] + 0.04f * ((float)rand() / RAND_MAX - 0.5f);
+        float d = gar_body_sdf_eval(sdf, p);
+        if (fabsf(d) < 0.005f)
+            continue;
+        int hit = gar_body_maps_collide(maps, p, 0, push, n);
+        tested++;
+        inside += d < 0;
+        wrong += hit != (d < 0);
+        if (hit) /* the push leaves the point outside, along an outward normal */
+            assert_true(push[0] * n[0] + push[1] * n[1] + push[2] * n[2] >= 0);
+    }
+    assert_true(tested > 5000 && inside > 1000);
+    if (wrong > 0.03 * tested)
+        fail_msg("%d of %d points classified against the mesh", wrong, tested);
+    gar_body_sdf_destroy(sdf);
+    for (int a = 0; a < 3; a++)
+        gar_body_maps_free(&maps[a]);
+    fit_model_destroy(b);
+}
+
+static gar_pattern load(const char *name)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s.json", GAR_PATTERN_DIR, name);
+    gar_pattern p;
+    gar_reject why = {0};
+    if (gar_pattern_load(path, &p, &why))
+        fail_msg("%s", why.detail);
+    return p;
+}
+
+/* Stretch springs are the mesh's edges (V + F - 1 per panel by Euler, each a disc), shear
+ * springs its interior edges, bend springs exist; rest lengths are the flat ones. */
+static void test_spring_families(void **state)
+{
+    (void)state;
+    gar_pattern p = load("skirt");
+    gar_mesh m;
+    gar_reject why = {0};
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
+    gar_springs sp;
+    assert_int_equal(gar_springs_build(&m, &sp), 0);
+    assert_int_equal(sp.n_stretch, m.num_vertices + m.num_triangles - m.num_panels);
+    int boundary = m.edge_offset[m.num_edges] - m.num_edges; /* outline segments */
+    int shear = 0, bend = 0;
+    for (int s = 0; s < sp.n; s++) {
+        shear += sp.kind[s] == GAR_SHEAR;
+        bend += sp.kind[s] == GAR_BEND;
+        assert_true(sp.rest_m[s] > 0);
+    }
+    assert_int_equal(shear, sp.n_stretch - boundary);
+    assert_true(bend > m.num_vertices / 2);
+    gar_springs_free(&sp);
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
+}
+
+/* The skirt placed on the body and seamed: the seams close to a fraction of the placement's
+ * gap, nothing is NaN, nothing ends deep in the body. */
+static void test_seaming_closes_skirt(void **state)
+{
+    (void)state;
+    fit_model *b = body_create();
+    gar_pattern p = load("skirt");
+    gar_mesh m;
+    gar_reject why = {0};
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
+    assert_int_equal(gar_mesh_place(&p, &m, b, NULL, NULL, NULL, &why), 0);
+    gar_dress_stats before, after;
+    assert_int_equal(gar_dress_measure(&m, b, &before), 0);
+    gar_dress_desc d = {.max_seaming_s = 0.6f, .drape_steps = 50};
+    assert_int_equal(gar_dress_seed(&p, &m, b, &d, &after, &why), 0);
+    for (int i = 0; i < 3 * m.num_vertices; i++)
+        assert_true(isfinite(m.xyz[i]));
+    if (!(after.seam_gap_mm < 0.25f * before.seam_gap_mm))
+        fail_msg("seam gap %.1f mm after, %.1f mm placed", after.seam_gap_mm, before.seam_gap_mm);
+    assert_true(after.max_pen_mm < 20);
+    assert_true(after.steps == 650 || after.seaming_s > 0);
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
+    fit_model_destroy(b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_body_maps_agree_with_mesh),
+        cmocka_unit_test(test_spring_families),
+        cmocka_unit_test(test_seaming_closes_skirt),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
