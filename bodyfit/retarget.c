@@ -19,6 +19,9 @@ typedef struct retarget_map {
     int src[FIT_JOINT_COUNT];       /* the BVH joint whose world rotation drives the model joint */
     double fix[FIT_JOINT_COUNT][9]; /* C: model rest bone direction onto the clip's (W = G C) */
     double hinge[FIT_JOINT_COUNT][3]; /* unit hinge axis (elbows, knees), else zero */
+    double flex[FIT_JOINT_COUNT];     /* sign of flexion about the hinge: +1 knees, -1 elbows */
+    double dir[FIT_JOINT_COUNT][3];   /* the model's rest bone direction out of each joint */
+    double rest[FIT_JOINT_COUNT][3];  /* the model's rest joint centres, m */
     int toe[2];
     double scale;      /* model metres per file unit: ratio of the leg lengths */
     double hips0[3];   /* the clip's first hips position, file units */
@@ -163,7 +166,11 @@ static int build_map(const fit_bvh *b, const fit_model *m, retarget_map *map, ch
         double dm[3], db[3];
         int c = model_child((fit_joint)j);
         model_rest_dir(rest, (fit_joint)j, dm);
+        memcpy(map->dir[j], dm, sizeof dm);
+        for (int k = 0; k < 3; ++k)
+            map->rest[j][k] = rest[j * 3 + k];
         memset(map->hinge[j], 0, sizeof map->hinge[j]);
+        map->flex[j] = (j == FIT_L_KNEE || j == FIT_R_KNEE) ? 1.0 : -1.0;
         if (j == FIT_PELVIS || clip_rest_dir(b, map->src[j], c >= 0 ? map->src[c] : -1, db) == 0) {
             for (int k = 0; k < 9; ++k)
                 map->fix[j][k] = (k % 4 == 0) ? 1.0 : 0.0;
@@ -206,21 +213,84 @@ static void twist_about(const double q[4], const double h[3], double out[4])
         out[k] = t[k] / n;
 }
 
-/* One clip frame from the clip's world rotations g and hips position. */
-static void frame_pose(const retarget_map *map, double g[][9], const double hips[3], fit_pose *out)
+static int is_hinge(const retarget_map *map, int j)
+{
+    return j >= 0 &&
+           (map->hinge[j][0] != 0.0 || map->hinge[j][1] != 0.0 || map->hinge[j][2] != 0.0);
+}
+
+static void cross(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* A bent elbow or knee can only bend about its hinge: twist the upper arm (thigh) target about
+ * its own bone so the hinge lies normal to the plane the clip's limb bends in. Nearly straight
+ * limbs define no plane: the twist fades out between 5 and 20 degrees of bend. */
+static void align_hinge(const retarget_map *map, double g[][9], int j, int child, double w[9])
+{
+    double u[3], f[3], h[3], want[3], t[9];
+    mocap_mat_apply(w, map->dir[j], u);
+    mocap_mat_mul(g[map->src[child]], map->fix[child], t);
+    mocap_mat_apply(t, map->dir[child], f);
+    mocap_mat_apply(w, map->hinge[child], h);
+    cross(u, f, want);
+    double s = normalise(want), lo = sin(5.0 * 0.017453292519943295),
+           hi = sin(20.0 * 0.017453292519943295);
+    if (s < lo)
+        return;
+    for (int k = 0; k < 3; ++k)
+        want[k] *= map->flex[child];
+    double e = s > hi ? 1.0 : (s - lo) / (hi - lo);
+    e = e * e * (3.0 - 2.0 * e);
+    double c[3];
+    cross(h, want, c);
+    double phi = e * atan2(dot(c, u), dot(h, want));
+    double q[4] = {cos(0.5 * phi), sin(0.5 * phi) * u[0], sin(0.5 * phi) * u[1],
+                   sin(0.5 * phi) * u[2]};
+    mocap_quat_to_mat(q, t);
+    mocap_mat_mul(t, w, w);
+}
+
+static int hinge_child(const retarget_map *map, int j)
+{
+    for (int c = j + 1; c < FIT_JOINT_COUNT; ++c)
+        if (fit_joint_parent((fit_joint)c) == j && is_hinge(map, c))
+            return c;
+    return -1;
+}
+
+/* One clip frame from the clip's world rotations g and hips position. Returns the lowest toe
+ * joint's height as posed. */
+static double frame_pose(const retarget_map *map, double g[][9], const double hips[3],
+                         fit_pose *out)
 {
     double w[FIT_JOINT_COUNT][9]; /* the model's world rotations as posed */
+    double x[FIT_JOINT_COUNT][3]; /* and its joint centres */
     memset(out, 0, sizeof *out);
+    out->root[0] = (float)(map->scale * (hips[0] - map->hips0[0]));
+    out->root[1] = (float)(map->scale * (hips[1] - map->floor_y) - map->pelvis_toe);
+    out->root[2] = (float)(map->scale * (hips[2] - map->hips0[2]));
     for (int j = 0; j < FIT_JOINT_COUNT; ++j) {
         double target[9], local[9], q[4];
         mocap_mat_mul(g[map->src[j]], map->fix[j], target);
+        int c = hinge_child(map, j);
+        if (c >= 0)
+            align_hinge(map, g, j, c, target);
         int p = fit_joint_parent((fit_joint)j);
         if (p >= 0)
             mocap_mat_tmul(w[p], target, local);
         else
             memcpy(local, target, sizeof local);
         mocap_mat_to_quat(local, q);
-        if (map->hinge[j][0] != 0.0 || map->hinge[j][1] != 0.0 || map->hinge[j][2] != 0.0)
+        if (is_hinge(map, j))
             twist_about(q, map->hinge[j], q);
         fit_pose one;
         memset(&one, 0, sizeof one);
@@ -233,14 +303,20 @@ static void frame_pose(const retarget_map *map, double g[][9], const double hips
         double qc[4] = {cos(0.5 * th), sin(0.5 * th) * a[0], sin(0.5 * th) * a[1],
                         sin(0.5 * th) * a[2]};
         mocap_quat_to_mat(qc, local);
-        if (p >= 0)
+        if (p >= 0) {
+            double d[3] = {map->rest[j][0] - map->rest[p][0], map->rest[j][1] - map->rest[p][1],
+                           map->rest[j][2] - map->rest[p][2]};
             mocap_mat_mul(w[p], local, w[j]);
-        else
+            mocap_mat_apply(w[p], d, x[j]);
+            for (int k = 0; k < 3; ++k)
+                x[j][k] += x[p][k];
+        } else {
             memcpy(w[j], local, sizeof local);
+            for (int k = 0; k < 3; ++k)
+                x[j][k] = map->rest[j][k] + out->root[k];
+        }
     }
-    out->root[0] = (float)(map->scale * (hips[0] - map->hips0[0]));
-    out->root[1] = (float)(map->scale * (hips[1] - map->floor_y) - map->pelvis_toe);
-    out->root[2] = (float)(map->scale * (hips[2] - map->hips0[2]));
+    return fmin(x[FIT_L_TOE][1], x[FIT_R_TOE][1]);
 }
 
 /* The clip's world rotations and hips at time t: the two nearest frames, slerped. */
@@ -312,13 +388,19 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     rc = (c && c->pose && buf && g) ? 0 : FIT_ERR_NOMEM;
     if (!rc)
         rc = clip_floor(b, &map, buf);
+    double toe_lo = INFINITY;
     for (int f = 0; f < n && !rc; ++f) {
         double hips[3];
         rc = sample(b, (double)f / FIT_CLIP_FPS, buf, buf + nj * 3, buf + nj * 12, buf + nj * 15, g,
                     hips);
         if (!rc)
-            frame_pose(&map, g, hips, &c->pose[f]);
+            toe_lo = fmin(toe_lo, frame_pose(&map, g, hips, &c->pose[f]));
     }
+    /* The model's proportions are not the clip's: the lowest its toes go is their rest height
+     * (the floor), so the feet neither float nor sink. */
+    double lift = 0.5 * (map.rest[FIT_L_TOE][1] + map.rest[FIT_R_TOE][1]) - toe_lo;
+    for (int f = 0; f < n && !rc; ++f)
+        c->pose[f].root[1] += (float)lift;
     free(buf);
     free(g);
     if (rc) {
