@@ -102,7 +102,13 @@ int fit_model_write_obj(const fit_model *m, const float *vertices, const char *p
     X(FIT_MOTION_TURN, "turn")                                                                     \
     X(FIT_MOTION_WALK, "walk")                                                                     \
     X(FIT_MOTION_FAST_SWING, "fast_swing") /* wrist speed >= 3 m/s */                              \
-    X(FIT_MOTION_ENTER_LEAVE, "enter_leave")
+    X(FIT_MOTION_ENTER_LEAVE, "enter_leave")                                                       \
+    X(FIT_MOTION_ARMS_DOWN, "arms_down")       /* A-pose to 6 deg from vertical, held, back */     \
+    X(FIT_MOTION_BOXING_GUARD, "boxing_guard") /* forearms up against the chest, held, back */     \
+    X(FIT_MOTION_BEND_FORWARD, "bend_forward") /* trunk 30 deg forward and back at 1 Hz */         \
+    X(FIT_MOTION_BEND_SIDE, "bend_side")       /* trunk 20 deg to either side at 0.5 Hz */         \
+    X(FIT_MOTION_TWIST, "twist")               /* trunk 45 deg about the spine, at 0.5 Hz */       \
+    X(FIT_MOTION_BEND_FAST, "bend_fast")       /* trunk 30 deg forward and back in 0.7 s */
 
 #define FIT_MOTION_ENUM(id, name) id,
 typedef enum fit_motion { FIT_MOTION_LIST(FIT_MOTION_ENUM) FIT_MOTION_COUNT } fit_motion;
