@@ -114,6 +114,7 @@ struct sim {
     float follow_m[12];
     int follow_on;
     double (*follow_pq)[3];
+    struct sim_carry *carry; /* a frame no attempt solves: the good cloth carried (carry.c) */
 };
 
 /* Solver constants and the reasons for them. */

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "carry.h"
 #include "cloth.h"
 
 #define SIM_ERROR_NAME(id, text) #id,
@@ -35,6 +36,8 @@ const char *sim_state_name(sim_state s)
         return "recovered";
     case SIM_STATE_DIVERGED:
         return "diverged";
+    case SIM_STATE_CARRIED:
+        return "carried";
     }
     return "unknown";
 }
@@ -323,8 +326,9 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
     s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
+    s->carry = sim_carry_create(d.max_body_vertices);
     if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
-        !s->tris3 || !s->follow_pq ||
+        !s->tris3 || !s->follow_pq || !s->carry ||
         body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
@@ -374,6 +378,7 @@ void sim_destroy(sim *s)
     free(s->scratch);
     free(s->tris3);
     free(s->follow_pq);
+    sim_carry_destroy(s->carry);
     free(s);
 }
 
@@ -509,6 +514,18 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
     return 0;
 }
 
+/* No attempt solved the frame: the last good cloth (restored) carried by the body from its last
+   frame to this one, at rest in it (a velocity that diverged is not kept). 0, or -1 when there
+   is no last body frame to carry from (the cloth stays as it was). */
+static int carry_good(sim *s)
+{
+    if (sim_carry_points(s->carry, &s->body, s->cloth.x, s->cloth.nv) < 0)
+        return -1;
+    memcpy(s->cloth.x_prev, s->cloth.x, (size_t)s->cloth.nv * sizeof *s->cloth.x_prev);
+    s->ops->upload(s->backend, s);
+    return 0;
+}
+
 int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
              sim_frame_stats *st, sim_reject *why)
 {
@@ -587,22 +604,29 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     st->iterations_used = iters;
     s->frame++;
     double t2 = now_ms();
-    if (!ok) {
-        st->state = SIM_STATE_DIVERGED;
-        sim_strain_stats(&s->cloth, s->scratch, &st->max_strain, &st->p99_strain);
-        st->ms_total = (float)(now_ms() - t0);
-        return sim_reject_set(why, SIM_ERR_DIVERGED,
-                              "frame %ld: diverged with %d, and up to %d iterations; the last "
-                              "good cloth is kept",
-                              s->frame, s->desc.iterations, iters);
-    }
-    st->state = st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK;
+    int carried = !ok && carry_good(s) == 0;
+    /* What is published is measured, whatever made it: solved, carried or kept. */
+    if (!ok)
+        sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
     st->max_strain = max_strain;
     st->p99_strain = p99;
     float depth = 0.0f;
     sim_collider_penetration(s->collider, (const float(*)[4])s->cloth.x, s->cloth.nv, SIM_PEN_TOL_M,
                              &st->penetrating, &depth);
     st->max_pen_mm = depth * 1000.0f;
+    if (!ok && !carried) {
+        st->state = SIM_STATE_DIVERGED;
+        st->ms_total = (float)(now_ms() - t0);
+        return sim_reject_set(why, SIM_ERR_DIVERGED,
+                              "frame %ld: diverged with %d, and up to %d iterations; the last "
+                              "good cloth is kept",
+                              s->frame, s->desc.iterations, iters);
+    }
+    st->state = carried ? SIM_STATE_CARRIED : (st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK);
+    if (carried) {
+        excess = strain_excess(s, max_strain, p99);
+        iters = s->desc.iterations;
+    }
     keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
     s->excess_good = excess;
     s->iters_good = iters;
