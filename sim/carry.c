@@ -17,6 +17,13 @@
  * body's mean motion: a shirt's point is never that far from the body it hangs on. */
 #define CARRY_SEARCH_CELLS 8
 
+/* The two body frames a carry goes between. */
+typedef struct carry_view {
+    const float (*v_prev)[4], (*v)[4];
+    const int32_t (*tris)[4];
+    int nv, nt;
+} carry_view;
+
 struct sim_carry {
     int max_nv;
     int32_t *start; /* [CARRY_BUCKETS + 1] */
@@ -61,7 +68,7 @@ static uint32_t bucket(int i, int j, int k)
     return h & (CARRY_BUCKETS - 1);
 }
 
-static void build(sim_carry *c, const sim_body *b)
+static void build(sim_carry *c, const carry_view *b)
 {
     memset(c->start, 0, (CARRY_BUCKETS + 1) * sizeof *c->start);
     for (int i = 0; i < b->nv; i++) {
@@ -84,7 +91,7 @@ static void build(sim_carry *c, const sim_body *b)
 }
 
 /* The body vertex nearest p in frame k-1, -1 when none is within the searched cells. */
-static int nearest(const sim_carry *c, const sim_body *b, const float p[3])
+static int nearest(const sim_carry *c, const carry_view *b, const float p[3])
 {
     int ci = cell_of(p[0]), cj = cell_of(p[1]), ck = cell_of(p[2]), best = -1;
     float best_d2 = INFINITY;
@@ -134,7 +141,7 @@ static int frame_of(const float (*v)[4], const int32_t *tri, float f[3][3])
 }
 
 /* p moves with body vertex i: its offset turned as the triangle at i turned (F_k^T F_k-1). */
-static void carry_point(const sim_carry *c, const sim_body *b, int i, float p[3])
+static void carry_point(const sim_carry *c, const carry_view *b, int i, float p[3])
 {
     float d[3] = {p[0] - b->v_prev[i][0], p[1] - b->v_prev[i][1], p[2] - b->v_prev[i][2]};
     float f0[3][3], f1[3][3];
@@ -150,10 +157,12 @@ static void carry_point(const sim_carry *c, const sim_body *b, int i, float p[3]
         p[k] = b->v[i][k] + d[k];
 }
 
-int sim_carry_points(sim_carry *c, const sim_body *b, float (*x)[4], int n)
+int sim_carry_between(sim_carry *c, const float (*from)[4], const float (*to)[4],
+                      const int32_t (*tris)[4], int nv, int nt, float (*x)[4], int n)
 {
-    if (!c || !b->have_prev || b->nv < 1 || b->nv > c->max_nv)
+    if (!c || nv < 1 || nv > c->max_nv)
         return -1;
+    carry_view view = {.v_prev = from, .v = to, .tris = tris, .nv = nv, .nt = nt}, *b = &view;
     build(c, b);
     double mean[3] = {0, 0, 0}; /* the body's mean move, for points far from it */
     for (int i = 0; i < b->nv; i++)
@@ -169,4 +178,12 @@ int sim_carry_points(sim_carry *c, const sim_body *b, float (*x)[4], int n)
         }
     }
     return 0;
+}
+
+int sim_carry_points(sim_carry *c, const sim_body *b, float (*x)[4], int n)
+{
+    if (!b->have_prev)
+        return -1;
+    return sim_carry_between(c, (const float(*)[4])b->v_prev, (const float(*)[4])b->v,
+                             (const int32_t(*)[4])b->tris, b->nv, b->nt, x, n);
 }

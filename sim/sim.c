@@ -327,14 +327,17 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
     s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
     s->carry = sim_carry_create(d.max_body_vertices);
+    s->x_first = malloc((size_t)nv * sizeof *s->x_first);
+    s->body_first = malloc((size_t)d.max_body_vertices * sizeof *s->body_first);
     if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
-        !s->tris3 || !s->follow_pq || !s->carry ||
+        !s->tris3 || !s->follow_pq || !s->carry || !s->x_first || !s->body_first ||
         body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
         return NULL;
     }
     save_good(s);
+    memcpy(s->x_first, s->cloth.x, (size_t)nv * sizeof *s->x_first);
     s->iters_good = d.iterations;
     memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
 
@@ -379,6 +382,8 @@ void sim_destroy(sim *s)
     free(s->tris3);
     free(s->follow_pq);
     sim_carry_destroy(s->carry);
+    free(s->x_first);
+    free(s->body_first);
     free(s);
 }
 
@@ -418,7 +423,11 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     /* relaxing from a real stretch (a percent at least): at rest, strains of 1e-7 are rounding,
        and a cloth in free fall "relaxed" from 9e-7 to 2e-7 while falling 5 km in a frame */
     int relaxing = s->strain_good > 0.01f && *max_strain < 0.9f * s->strain_good;
-    return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
+    /* a stretch no fabric survives is a failure unless it is relaxing: growing or standing (a
+       state stuck at 30x its rest length passed while it merely stayed there, docs/sim.md,
+       "Real motion") */
+    return (!(*max_strain < SIM_DIVERGE_STRAIN) && (growing || !relaxing)) ||
+           (too_fast && !relaxing);
 }
 
 /* How far a frame's strain is over the retry goals: > 1 misses one of them; 0 without goals
@@ -509,6 +518,11 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                               "body rejected by the collider: %s", sim_collide_error_str(r));
     body_store(&s->body, xyz, nv, tris, nt);
     s->body.stored++;
+    if (s->body.stored == 1) { /* the body the garment was made on: for re-dressing (carry) */
+        memcpy(s->body_first, s->body.v, (size_t)nv * sizeof *s->body_first);
+        s->first_nv = nv;
+        s->first_nt = nt;
+    }
     body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
@@ -517,12 +531,23 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
 }
 
 /* No attempt solved the frame: the last good cloth (restored) carried by the body from its last
-   frame to this one, at rest in it (a velocity that diverged is not kept). 0, or -1 when there
-   is no last body frame to carry from (the cloth stays as it was). */
+   frame to this one, at rest in it (a velocity that diverged is not kept). When that cloth is
+   itself stretched past SIM_CARRY_MAX_STRAIN (a bad state the solver cannot leave), the garment
+   as made is carried instead, from the body it was made on to this one: dressed again. 0, or -1
+   when there is no last body frame to carry from (the cloth stays as it was). */
 static int carry_good(sim *s)
 {
     if (sim_carry_points(s->carry, &s->body, s->cloth.x, s->cloth.nv) < 0)
         return -1;
+    float max_strain, p99;
+    sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
+    if (!(max_strain <= SIM_CARRY_MAX_STRAIN) && s->first_nv == s->body.nv &&
+        s->first_nt == s->body.nt) {
+        memcpy(s->cloth.x, s->x_first, (size_t)s->cloth.nv * sizeof *s->cloth.x);
+        sim_carry_between(s->carry, (const float(*)[4])s->body_first, (const float(*)[4])s->body.v,
+                          (const int32_t(*)[4])s->body.tris, s->body.nv, s->body.nt, s->cloth.x,
+                          s->cloth.nv);
+    }
     memcpy(s->cloth.x_prev, s->cloth.x, (size_t)s->cloth.nv * sizeof *s->cloth.x_prev);
     s->ops->upload(s->backend, s);
     return 0;
