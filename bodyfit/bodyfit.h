@@ -213,6 +213,9 @@ int fit_clip_frame_count(const fit_clip *c);
 double fit_clip_duration(const fit_clip *c); /* seconds; fit_clip_eval loops after this */
 /* The pose at time t_s (the nearest frame, looping). */
 void fit_clip_eval(const fit_clip *c, double t_s, fit_pose *out);
+/* The file's time (seconds) of clip frame 0: 0, or one frame time where the file opens on a
+ * reference pose that the motion then leaves in a jump (CMU's clips), which is dropped. */
+double fit_clip_start(const fit_clip *c);
 /* The clip's BVH joint whose world rotation drives model joint j (-1: none). */
 int fit_clip_source_joint(const fit_clip *c, fit_joint j);
 

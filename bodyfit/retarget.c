@@ -10,6 +10,7 @@
 
 struct fit_clip {
     int frames;
+    double start_s; /* the file's time of clip frame 0 */
     fit_pose *pose; /* [frames] */
     int src[FIT_JOINT_COUNT];
 };
@@ -24,6 +25,8 @@ typedef struct retarget_map {
     double rest[FIT_JOINT_COUNT][3];  /* the model's rest joint centres, m */
     int toe[2];
     double scale;      /* model metres per file unit: ratio of the leg lengths */
+    double leg_file;   /* the clip's leg length, file units */
+    int first;         /* the file's first frame of motion (1: frame 0 is a reference pose) */
     double hips0[3];   /* the clip's first hips position, file units */
     double floor_y;    /* lowest toe of the clip, file units */
     double pelvis_toe; /* model pelvis joint above its toe joints at rest, m */
@@ -192,6 +195,7 @@ static int build_map(const fit_bvh *b, const fit_model *m, retarget_map *map, ch
         return FIT_ERR_ARG;
     }
     map->scale = fit_model_shape(m)->leg_length / lb;
+    map->leg_file = lb;
     map->toe[0] = map->src[FIT_L_TOE];
     map->toe[1] = map->src[FIT_R_TOE];
     map->pelvis_toe =
@@ -354,17 +358,34 @@ static int sample(const fit_bvh *b, double t, float *pa, float *ra, float *pb, f
 static int clip_floor(const fit_bvh *b, retarget_map *map, float *pos)
 {
     map->floor_y = INFINITY;
-    for (int f = 0; f < b->frames; ++f) {
+    for (int f = map->first; f < b->frames; ++f) {
         int rc = fit_bvh_world(b, f, pos, NULL);
         if (rc)
             return rc;
-        if (f == 0)
+        if (f == map->first)
             for (int k = 0; k < 3; ++k)
                 map->hips0[k] = pos[k];
         for (int s = 0; s < 2; ++s)
             map->floor_y = fmin(map->floor_y, pos[map->toe[s] * 3 + 1]);
     }
     return 0;
+}
+
+/* CMU's clips open on a reference T-pose, then jump to the motion: frame 0 is dropped when some
+ * joint moves from it to frame 1 by more than a tenth of a leg (10 m/s at 120 fps: no person
+ * moves so in a frame). */
+static int reference_frame(const fit_bvh *b, const retarget_map *map, float *pa, float *pb)
+{
+    if (b->frames < 3 || fit_bvh_world(b, 0, pa, NULL) || fit_bvh_world(b, 1, pb, NULL))
+        return 0;
+    double worst = 0.0;
+    for (int j = 0; j < b->joint_count; ++j) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k)
+            d2 += (pa[j * 3 + k] - pb[j * 3 + k]) * (pa[j * 3 + k] - pb[j * 3 + k]);
+        worst = fmax(worst, d2);
+    }
+    return sqrt(worst) > 0.1 * map->leg_file;
 }
 
 int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char *err,
@@ -377,11 +398,12 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     int rc = build_map(b, m, &map, err, errlen);
     if (rc)
         return rc;
-    double span = (b->frames - 1) * b->frame_time_s;
-    int n = (int)floor(span * FIT_CLIP_FPS + 1e-6) + 1;
-    fit_clip *c = calloc(1, sizeof *c);
     size_t nj = (size_t)b->joint_count;
     float *buf = malloc(nj * 24 * sizeof(float));
+    map.first = buf ? reference_frame(b, &map, buf, buf + nj * 3) : 0;
+    double start = map.first * b->frame_time_s, span = (b->frames - 1) * b->frame_time_s - start;
+    int n = (int)floor(span * FIT_CLIP_FPS + 1e-6) + 1;
+    fit_clip *c = calloc(1, sizeof *c);
     double(*g)[9] = malloc(nj * sizeof *g);
     if (c)
         c->pose = malloc((size_t)n * sizeof *c->pose);
@@ -391,7 +413,7 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     double toe_lo = INFINITY;
     for (int f = 0; f < n && !rc; ++f) {
         double hips[3];
-        rc = sample(b, (double)f / FIT_CLIP_FPS, buf, buf + nj * 3, buf + nj * 12, buf + nj * 15, g,
+        rc = sample(b, start + (double)f / FIT_CLIP_FPS, buf, buf + nj * 3, buf + nj * 12, buf + nj * 15, g,
                     hips);
         if (!rc)
             toe_lo = fmin(toe_lo, frame_pose(&map, g, hips, &c->pose[f]));
@@ -408,6 +430,7 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
         return rc;
     }
     c->frames = n;
+    c->start_s = start;
     memcpy(c->src, map.src, sizeof c->src);
     *out = c;
     return 0;
@@ -442,6 +465,11 @@ void fit_clip_eval(const fit_clip *c, double t_s, fit_pose *out)
     double d = (double)c->frames / FIT_CLIP_FPS, t = fmod(t_s, d);
     long k = (long)floor((t < 0.0 ? t + d : t) * FIT_CLIP_FPS + 0.5) % c->frames;
     *out = c->pose[k];
+}
+
+double fit_clip_start(const fit_clip *c)
+{
+    return c ? c->start_s : 0.0;
 }
 
 int fit_clip_source_joint(const fit_clip *c, fit_joint j)

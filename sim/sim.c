@@ -530,19 +530,53 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
     return 0;
 }
 
+/* The garment as made, moved rigidly as its attachments moved since the body it was made on
+   (Horn's fit, follow.c): no spring is stretched, whatever the pose. 0, or -1 without three
+   attachments or with another body topology. */
+static int redress_rigid(sim *s)
+{
+    int na = s->cloth.num_attachments;
+    if (na < 3 || s->first_nv != s->body.nv || s->first_nt != s->body.nt)
+        return -1;
+    double(*p)[3] = s->follow_pq, (*q)[3] = s->follow_pq + na;
+    for (int a = 0; a < na; a++) {
+        const sim_attachment *at = &s->cloth.attachments[a];
+        const int32_t *t = s->body.tris[at->body_triangle];
+        for (int d = 0; d < 3; d++) {
+            p[a][d] = q[a][d] = 0.0;
+            for (int k = 0; k < 3; k++) {
+                p[a][d] += (double)at->bary[k] * s->body_first[t[k]][d];
+                q[a][d] += (double)at->bary[k] * s->body.v[t[k]][d];
+            }
+        }
+    }
+    float m[12];
+    if (sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, na, 1.0, m) != 0)
+        return -1;
+    for (int i = 0; i < s->cloth.nv; i++) {
+        const float *x = s->x_first[i];
+        for (int r = 0; r < 3; r++)
+            s->cloth.x[i][r] =
+                m[r * 4] * x[0] + m[r * 4 + 1] * x[1] + m[r * 4 + 2] * x[2] + m[r * 4 + 3];
+        s->cloth.x[i][3] = x[3];
+    }
+    return 0;
+}
+
 /* No attempt solved the frame: the last good cloth (restored) carried by the body from its last
    frame to this one, at rest in it (a velocity that diverged is not kept). When that cloth is
    itself stretched past SIM_CARRY_MAX_STRAIN (a bad state the solver cannot leave), the garment
-   as made is carried instead, from the body it was made on to this one: dressed again. 0, or -1
-   when there is no last body frame to carry from (the cloth stays as it was). */
+   is dressed again: the garment as made, moved rigidly with its attachments (a garment without
+   them: carried point by point from the body it was made on). 0, or -1 when there is no last
+   body frame to carry from (the cloth stays as it was). */
 static int carry_good(sim *s)
 {
     if (sim_carry_points(s->carry, &s->body, s->cloth.x, s->cloth.nv) < 0)
         return -1;
     float max_strain, p99;
     sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
-    if (!(max_strain <= SIM_CARRY_MAX_STRAIN) && s->first_nv == s->body.nv &&
-        s->first_nt == s->body.nt) {
+    if (!(max_strain <= SIM_CARRY_MAX_STRAIN) && redress_rigid(s) != 0 &&
+        s->first_nv == s->body.nv && s->first_nt == s->body.nt) {
         memcpy(s->cloth.x, s->x_first, (size_t)s->cloth.nv * sizeof *s->cloth.x);
         sim_carry_between(s->carry, (const float(*)[4])s->body_first, (const float(*)[4])s->body.v,
                           (const int32_t(*)[4])s->body.tris, s->body.nv, s->body.nt, s->cloth.x,
