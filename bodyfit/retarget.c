@@ -413,8 +413,8 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     double toe_lo = INFINITY;
     for (int f = 0; f < n && !rc; ++f) {
         double hips[3];
-        rc = sample(b, start + (double)f / FIT_CLIP_FPS, buf, buf + nj * 3, buf + nj * 12, buf + nj * 15, g,
-                    hips);
+        rc = sample(b, start + (double)f / FIT_CLIP_FPS, buf, buf + nj * 3, buf + nj * 12,
+                    buf + nj * 15, g, hips);
         if (!rc)
             toe_lo = fmin(toe_lo, frame_pose(&map, g, hips, &c->pose[f]));
     }
