@@ -102,7 +102,13 @@ int fit_model_write_obj(const fit_model *m, const float *vertices, const char *p
     X(FIT_MOTION_TURN, "turn")                                                                     \
     X(FIT_MOTION_WALK, "walk")                                                                     \
     X(FIT_MOTION_FAST_SWING, "fast_swing") /* wrist speed >= 3 m/s */                              \
-    X(FIT_MOTION_ENTER_LEAVE, "enter_leave")
+    X(FIT_MOTION_ENTER_LEAVE, "enter_leave")                                                       \
+    X(FIT_MOTION_ARMS_DOWN, "arms_down")       /* A-pose to 6 deg from vertical, held, back */     \
+    X(FIT_MOTION_BOXING_GUARD, "boxing_guard") /* forearms up against the chest, held, back */     \
+    X(FIT_MOTION_BEND_FORWARD, "bend_forward") /* trunk 30 deg forward and back at 1 Hz */         \
+    X(FIT_MOTION_BEND_SIDE, "bend_side")       /* trunk 20 deg to either side at 0.5 Hz */         \
+    X(FIT_MOTION_TWIST, "twist")               /* trunk 45 deg about the spine, at 0.5 Hz */       \
+    X(FIT_MOTION_BEND_FAST, "bend_fast")       /* trunk 30 deg forward and back in 0.7 s */
 
 #define FIT_MOTION_ENUM(id, name) id,
 typedef enum fit_motion { FIT_MOTION_LIST(FIT_MOTION_ENUM) FIT_MOTION_COUNT } fit_motion;
@@ -124,7 +130,8 @@ void fit_motion_eval(fit_motion m, double t_s, fit_pose *out);
     X(FIT_ERR_NOMEM, -4, "out of memory")                                                          \
     X(FIT_ERR_IO, -5, "file could not be written")                                                 \
     X(FIT_ERR_MESH, -6, "mesh generation failed")                                                  \
-    X(FIT_ERR_MEASURE, -7, "measurement failed")
+    X(FIT_ERR_MEASURE, -7, "measurement failed")                                                   \
+    X(FIT_ERR_PARSE, -8, "malformed file")
 
 #define FIT_ERROR_ENUM(id, code, msg) id = code,
 typedef enum fit_error { FIT_ERROR_LIST(FIT_ERROR_ENUM) } fit_error;
@@ -168,5 +175,48 @@ int fit_model_normals(const fit_model *m, const float *vertices, float *normals_
 const uint8_t *fit_model_weight_joints(const fit_model *m); /* [vertex][4] */
 const float *fit_model_weights(const fit_model *m);         /* [vertex][4], sum 1 */
 const float *fit_model_rest_joints(const fit_model *m);     /* [joint][3] */
+
+/* ---- Motion capture: BVH files (bodyfit/bvh_read.c) and their retargeting (retarget.c). ---- */
+
+/* A BVH file (Biovision hierarchy: a joint tree, then one line of channel values a frame).
+ * Units are the file's own; the frame is y up, the character facing +z with its left at +x, as
+ * the CMU conversions and most BVH files are. */
+#define FIT_BVH_MAX_JOINTS 256
+typedef struct fit_bvh fit_bvh;
+/* Parses text (len bytes, need not be NUL-terminated); name labels errors. Returns 0 or a
+ * negative fit_error (FIT_ERR_PARSE: err says "NAME:LINE: what was wrong"). */
+int fit_bvh_parse(const char *text, size_t len, const char *name, fit_bvh **out, char *err,
+                  size_t errlen);
+int fit_bvh_load(const char *path, fit_bvh **out, char *err, size_t errlen);
+void fit_bvh_destroy(fit_bvh *b);
+int fit_bvh_joint_count(const fit_bvh *b);
+int fit_bvh_frame_count(const fit_bvh *b);
+double fit_bvh_frame_time(const fit_bvh *b); /* seconds */
+const char *fit_bvh_joint_name(const fit_bvh *b, int j);
+int fit_bvh_joint_parent(const fit_bvh *b, int j);          /* -1 for the root */
+int fit_bvh_find_joint(const fit_bvh *b, const char *name); /* -1 if absent */
+/* Forward kinematics of one frame: world joint positions (joint_count * 3, file units) and
+ * world rotations (joint_count * 9, row-major; may be NULL). Returns 0 or a negative fit_error. */
+int fit_bvh_world(const fit_bvh *b, int frame, float *pos, float *rot);
+
+/* A clip: a BVH file retargeted onto a body shape, resampled to FIT_CLIP_FPS. Each model bone
+ * turns as the clip's matching bone does, from the difference of the two rest poses (the clip's
+ * T-pose against the model's A-pose); elbows and knees keep only the turn about their hinge;
+ * the root moves as the clip's hips, scaled by the ratio of leg lengths; joints are clamped to
+ * their limits. Horizontally the clip starts at x = z = 0. */
+#define FIT_CLIP_FPS 30
+typedef struct fit_clip fit_clip;
+int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char *err,
+                      size_t errlen);
+void fit_clip_destroy(fit_clip *c);
+int fit_clip_frame_count(const fit_clip *c);
+double fit_clip_duration(const fit_clip *c); /* seconds; fit_clip_eval loops after this */
+/* The pose at time t_s (the nearest frame, looping). */
+void fit_clip_eval(const fit_clip *c, double t_s, fit_pose *out);
+/* The file's time (seconds) of clip frame 0: 0, or one frame time where the file opens on a
+ * reference pose that the motion then leaves in a jump (CMU's clips), which is dropped. */
+double fit_clip_start(const fit_clip *c);
+/* The clip's BVH joint whose world rotation drives model joint j (-1: none). */
+int fit_clip_source_joint(const fit_clip *c, fit_joint j);
 
 #endif

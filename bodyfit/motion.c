@@ -14,7 +14,8 @@ static const char *const motion_names[] = {
 };
 
 /* Seconds per loop. Walk: two strides of 1.1 s; fast swing: two swings of 0.8 s. */
-static const double motion_durations[] = {4.0, 4.0, 6.0, 2.2, 1.6, 8.0};
+static const double motion_durations[] = {4.0, 4.0, 6.0, 2.2, 1.6, 8.0,
+                                          6.0, 6.0, 2.0, 4.0, 4.0, 1.4};
 
 const char *fit_motion_name(fit_motion m)
 {
@@ -152,6 +153,49 @@ static void enter_leave(double t, fit_pose *p)
     p->root[1] = (float)-gait(ph, env, 0.4, p);
 }
 
+#define DEG 0.017453292519943295
+
+/* 0 -> 1 over 1.5 s, held until 4.5 s, back to 0 by 6 s (smoothstep ramps). */
+static double hold(double t)
+{
+    double u = t < 1.5 ? t / 1.5 : (t < 4.5 ? 1.0 : (6.0 - t) / 1.5);
+    u = u < 0.0 ? 0.0 : u;
+    return u * u * (3.0 - 2.0 * u);
+}
+
+static void arms_down(double t, fit_pose *p)
+{
+    /* The A-pose arm is 45 deg from vertical: 39 deg of adduction leaves 6 deg. */
+    double a = -39.0 * DEG * hold(t);
+    set_anat(p, FIT_L_SHOULDER, 0.0, 0.0, a);
+    set_anat(p, FIT_R_SHOULDER, 0.0, 0.0, -a);
+}
+
+static void boxing_guard(double t, fit_pose *p)
+{
+    /* Upper arms forward, in and turned inwards, elbows bent 130 deg: elbows before the ribs,
+     * fists 8 cm apart before the chin, the forearms close over the chest (default shape: the
+     * wrist joints 4 cm in front of the chest's surface). */
+    double u = hold(t);
+    for (int side = 0; side < 2; ++side) {
+        double sg = side == 0 ? 1.0 : -1.0;
+        fit_joint sh = side == 0 ? FIT_L_SHOULDER : FIT_R_SHOULDER;
+        set_anat(p, sh, -0.9 * u, sg * -0.5 * u, sg * -0.6 * u);
+        set_anat(p, (fit_joint)(sh + 1), -2.3 * u, 0.0, 0.0);
+    }
+}
+
+/* The trunk turned by total angle a (radians) about anatomical axis k, shared by the spine
+ * (55 %) and the chest (45 %) as a real back bends over its length. */
+static void trunk(fit_pose *p, int k, double a)
+{
+    double s[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+    s[k] = 0.55 * a;
+    c[k] = 0.45 * a;
+    set_anat(p, FIT_SPINE, s[0], s[1], s[2]);
+    set_anat(p, FIT_CHEST, c[0], c[1], c[2]);
+}
+
 void fit_motion_eval(fit_motion m, double t_s, fit_pose *out)
 {
     if (!out)
@@ -181,6 +225,24 @@ void fit_motion_eval(fit_motion m, double t_s, fit_pose *out)
         break;
     case FIT_MOTION_ENTER_LEAVE:
         enter_leave(t, out);
+        break;
+    case FIT_MOTION_ARMS_DOWN:
+        arms_down(t, out);
+        break;
+    case FIT_MOTION_BOXING_GUARD:
+        boxing_guard(t, out);
+        break;
+    case FIT_MOTION_BEND_FORWARD:
+        trunk(out, 0, 30.0 * DEG * sin(TWO_PI * t));
+        break;
+    case FIT_MOTION_BEND_SIDE:
+        trunk(out, 2, 20.0 * DEG * sin(TWO_PI * t / 2.0));
+        break;
+    case FIT_MOTION_TWIST:
+        trunk(out, 1, 45.0 * DEG * sin(TWO_PI * t / 2.0));
+        break;
+    case FIT_MOTION_BEND_FAST:
+        trunk(out, 0, 30.0 * DEG * sin(TWO_PI * t / 0.7));
         break;
     default:
         break;

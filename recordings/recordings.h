@@ -203,8 +203,9 @@ typedef struct rec_gt {
 rec_error rec_gt_write(const char *path, const rec_gt *g, rec_report *why);
 rec_error rec_gt_read(const char *path, rec_gt *g, rec_report *why);
 
-/* tryon-synth. Motions: bodyfit's (still, arm_raise, turn, walk, fast_swing, enter_leave) and
- * "occlusion" (arm_raise behind a box). */
+/* tryon-synth. Motions: bodyfit's (still, arm_raise, turn, walk, fast_swing, enter_leave, ...),
+ * "occlusion" (arm_raise behind a box), or a motion-capture file FILE.bvh retargeted onto the
+ * body (0 frames: the whole clip). */
 typedef struct rec_synth_desc {
     const char *out_dir;
     const char *motion;

@@ -29,6 +29,7 @@ typedef struct synth_state {
     float *scratch;
     uint16_t *raw;
     rec_writer *writer;
+    fit_clip *clip; /* --motion FILE.bvh: the clip on this model, else NULL */
 } synth_state;
 
 static void synth_free(synth_state *s)
@@ -40,6 +41,7 @@ static void synth_free(synth_state *s)
     free(s->scratch);
     free(s->raw);
     rec_writer_destroy(s->writer);
+    fit_clip_destroy(s->clip);
 }
 
 static void fill_gt(rec_gt *g, const rec_synth_desc *d, const char *motion, const fit_model *m,
@@ -102,7 +104,10 @@ static rec_error synth_frame(synth_state *s, const rec_synth_desc *d, int motion
     rec_camera_to_world(c2w);
     double t = k / REC_FPS;
     fit_pose pose;
-    fit_motion_eval((fit_motion)motion, t, &pose);
+    if (s->clip)
+        fit_clip_eval(s->clip, t, &pose);
+    else
+        fit_motion_eval((fit_motion)motion, t, &pose);
     if (fit_model_pose(s->model, &pose, s->vertices, joints) != 0)
         return rec_fail(why, REC_ERR_ARG, "bodyfit", k, 0, "posing the model failed");
     memcpy(s->depth, s->background, sizeof(float) * REC_WIDTH * REC_HEIGHT);
@@ -126,6 +131,31 @@ static rec_error synth_frame(synth_state *s, const rec_synth_desc *d, int motion
     return rec_gt_write(path, &g, why);
 }
 
+static int is_bvh(const char *motion)
+{
+    size_t n = strlen(motion);
+    return n > 4 && strcmp(motion + n - 4, ".bvh") == 0;
+}
+
+/* A motion-capture file retargeted onto the recording's body (bodyfit.h, fit_clip). */
+static rec_error synth_clip(synth_state *s, const char *path, rec_report *why)
+{
+    char err[256] = "";
+    fit_bvh *b = NULL;
+    int rc = fit_bvh_load(path, &b, err, sizeof err);
+    if (!rc)
+        rc = fit_clip_from_bvh(b, s->model, &s->clip, err, sizeof err);
+    fit_bvh_destroy(b);
+    return rc ? rec_fail(why, REC_ERR_ARG, path, -1, 0, "%s", err) : REC_OK;
+}
+
+/* The recording's motion name in its ground truth: a clip's file name without its folder. */
+static const char *gt_name(const char *motion)
+{
+    const char *slash = strrchr(motion, '/');
+    return slash ? slash + 1 : motion;
+}
+
 rec_error rec_synth(const rec_synth_desc *d, rec_report *why)
 {
     if (why)
@@ -138,15 +168,17 @@ rec_error rec_synth(const rec_synth_desc *d, rec_report *why)
         motion = FIT_MOTION_ARM_RAISE;
         box = 1;
     }
-    if (motion < 0)
+    if (motion < 0 && !is_bvh(d->motion))
         return rec_fail(why, REC_ERR_ARG, d->motion, -1, 0, "unknown motion");
     if (d->shape < 0 || d->shape >= FIT_SHAPE_PRESETS)
         return rec_fail(why, REC_ERR_ARG, "shape", -1, 0, "preset %d is not 0..%d", d->shape,
                         FIT_SHAPE_PRESETS - 1);
-    int frames =
-        d->frames > 0 ? d->frames : (int)ceil(fit_motion_duration((fit_motion)motion) * REC_FPS);
     synth_state s = {0};
     rec_error e = synth_setup(&s, d, why);
+    if (e == REC_OK && motion < 0)
+        e = synth_clip(&s, d->motion, why);
+    double seconds = s.clip ? fit_clip_duration(s.clip) : fit_motion_duration((fit_motion)motion);
+    int frames = d->frames > 0 ? d->frames : (int)ceil(seconds * REC_FPS - 1e-9);
     rec_scene scene = rec_scene_default(box);
     if (e == REC_OK) {
         float c2w[16];
@@ -154,7 +186,7 @@ rec_error rec_synth(const rec_synth_desc *d, rec_report *why)
         rec_render_background(&scene, c2w, s.background);
     }
     for (int k = 0; k < frames && e == REC_OK; k++)
-        e = synth_frame(&s, d, motion, d->motion, &scene, k, why);
+        e = synth_frame(&s, d, motion, gt_name(d->motion), &scene, k, why);
     synth_free(&s);
     return e;
 }

@@ -8,12 +8,15 @@
 
 static void usage(FILE *fp)
 {
-    fprintf(fp, "usage: tryon-synth --out DIR [--motion NAME] [--shape 0|1|2] [--frames N]\n"
-                "                   [--noise on|off] [--seed N] [--vertices N] [--occluder]\n"
-                "motions:");
+    fprintf(fp,
+            "usage: tryon-synth --out DIR [--motion NAME|FILE.bvh] [--shape 0|1|2] [--frames N]\n"
+            "                   [--noise on|off] [--seed N] [--vertices N] [--occluder]\n"
+            "motions:");
     for (int i = 0; rec_synth_motion_name(i); i++)
         fprintf(fp, " %s", rec_synth_motion_name(i));
-    fprintf(fp, "\nReplay: tryon-capture --source freenect --uri DIR\n");
+    fprintf(fp,
+            "\n        FILE.bvh: a motion-capture clip (CMU-style BVH) retargeted onto the body\n"
+            "Replay: tryon-capture --source freenect --uri DIR\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out)

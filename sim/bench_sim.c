@@ -71,7 +71,7 @@ static void usage(FILE *f)
         "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
         "         [--hem M (the shirt's hem below the pelvis joint; 0: 0.12 m, at the hips)]\n"
         "         [--ref-body-verts N (the references' body model, 0 = the run's)]\n"
-        "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME]\n"
+        "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME|FILE.bvh]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
         "         [--friction MU (< 0: none)] [--damping D (per second, < 0: none)]\n"
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
@@ -220,7 +220,9 @@ static int parse(int argc, char **argv, bench_opts *o)
         usage(stderr);
         return -1;
     }
-    if (o->frames <= 0)
+    size_t ml = strlen(o->motion);
+    int clip = body && ml > 4 && strcmp(o->motion + ml - 4, ".bvh") == 0;
+    if (o->frames <= 0 && !clip)     /* a clip: its own length (main) */
         o->frames = body ? 495 : 90; /* body: 16.5 s, every motion of "all"; drape: 3 s */
     o->desc.iterations = o->iterations;
     if (o->ref_iterations <= 0)
@@ -714,6 +716,46 @@ static void write_csv(const char *path, const bench_run *r, int frames)
     fclose(f);
 }
 
+/* --motion FILE.bvh without --frames: the whole clip (the scene's duration, a small body). */
+static int clip_frames(bench_opts *o)
+{
+    char err[256] = "";
+    sim_scene *sc = sim_scene_body(o->motion, 2000, err, sizeof err);
+    if (!sc) {
+        fprintf(stderr, "tryon-bench-sim: body scene: %s\n", err);
+        return -1;
+    }
+    o->frames = (int)floor(sim_scene_duration(sc) / o->desc.frame_dt_s + 0.5);
+    sim_scene_destroy(sc);
+    return 0;
+}
+
+/* The figures of docs/sim.md's "Real motion" over the published frames: the share of frames
+ * with no vertex over 1 mm inside the body, and with max strain <= 3 % and p99 <= 1 % (after
+ * the settling frames); the frames carried by the body (no attempt solved them) and the longest
+ * run of them. */
+typedef struct frame_shares {
+    double pen_free_pct, strain_ok_pct;
+    int carried, carried_run;
+} frame_shares;
+
+static frame_shares shares(const bench_run *r, int frames, int settle)
+{
+    frame_shares f = {0};
+    int pen_free = 0, strain_ok = 0, run = 0;
+    for (int i = 0; i < frames; i++) {
+        const sim_frame_stats *s = &r->st[i];
+        pen_free += s->penetrating == 0;
+        strain_ok += i >= settle && s->max_strain <= 0.03f && s->p99_strain <= 0.01f;
+        run = s->state == SIM_STATE_CARRIED ? run + 1 : 0;
+        f.carried += s->state == SIM_STATE_CARRIED;
+        f.carried_run = run > f.carried_run ? run : f.carried_run;
+    }
+    f.pen_free_pct = frames > 0 ? 100.0 * pen_free / frames : 0.0;
+    f.strain_ok_pct = frames > settle ? 100.0 * strain_ok / (frames - settle) : 0.0;
+    return f;
+}
+
 int main(int argc, char **argv)
 {
     bench_opts o;
@@ -724,6 +766,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "tryon-bench-sim: cannot create the cache directory %s\n", o.cache_dir);
         return 1;
     }
+    if (o.frames <= 0 && clip_frames(&o) < 0)
+        return 1;
     if (o.compare_ref > 0)
         return compare_refs(&o);
     bench_run r;
@@ -762,6 +806,7 @@ int main(int argc, char **argv)
         strain_retried += s->strain_retries > 0;
         settled += s->settle_rounds > 0;
     }
+    frame_shares fs = shares(&r, o.frames, settle);
     int nv_ref = r.nv;
     /* the references' body detail, as run (the run's own unless --ref-body-verts) */
     int ref_body_nv = r.body_nv;
@@ -849,7 +894,9 @@ int main(int argc, char **argv)
            "\"strain_retried_frames\":%d,\"cloth_error_window_mm\":%.2f,"
            "\"window_uncertainty_mm\":%.2f,\"cloth_shape_error_mm\":%.2f,"
            "\"shape_window_mm\":%.2f,\"shape_window_uncertainty_mm\":%.2f,\"body_verts\":%d,"
-           "\"ref_body_verts\":%d,\"window_frames\":%d,\"cpu_steal_pct\":%.1f}\n",
+           "\"ref_body_verts\":%d,\"window_frames\":%d,\"cpu_steal_pct\":%.1f,"
+           "\"pen_free_frames_pct\":%.2f,\"strain_ok_frames_pct\":%.2f,\"carried_frames\":%d,"
+           "\"carried_run\":%d}\n",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
@@ -857,7 +904,8 @@ int main(int argc, char **argv)
            r.diverged_frames, o.desc.fabric.stretch_n_m, o.ref_iterations, ref_unc_mm, ms_nm,
            follow, settled, support, strain_retry, strain_retried, win_mm, win_unc_mm, shape_mm,
            win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv,
-           o.window_ref ? o.window_frames : -1, steal_pct);
+           o.window_ref ? o.window_frames : -1, steal_pct, fs.pen_free_pct, fs.strain_ok_pct,
+           fs.carried, fs.carried_run);
     run_free(&r);
     return 0;
 }

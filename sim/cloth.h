@@ -114,6 +114,10 @@ struct sim {
     float follow_m[12];
     int follow_on;
     double (*follow_pq)[3];
+    struct sim_carry *carry; /* a frame no attempt solves: the good cloth carried (carry.c) */
+    float (*x_first)[4];     /* the garment as made, on the first body frame (body_first) */
+    float (*body_first)[4];  /* [max_body_vertices]: that body frame, for re-dressing */
+    int first_nv, first_nt;  /* its size; 0 until a body frame was stored */
 };
 
 /* Solver constants and the reasons for them. */
@@ -123,6 +127,7 @@ struct sim {
 #define SIM_DIVERGE_SPEED       50.0f  /* m/s; no garment point moves that fast on a person */
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
+#define SIM_CARRY_MAX_STRAIN    0.10f  /* a carried cloth stretched more is dressed again (carry) */
 /* tryon: the strain goals a frame is retried for (sim_desc.retry_max_strain, retry_p99_strain) */
 #define SIM_RETRY_STRAIN   0.03f
 #define SIM_RETRY_P99      0.01f

@@ -20,10 +20,11 @@ struct sim_scene {
     float joints[32 * 3];
     int has_joints;
     int kind;   /* 0 sphere, 1 body model, 2 capsule figure */
-    int motion; /* -1 = all */
+    int motion; /* -1 = all, -2 = a motion-capture clip */
     char describe[96];
 #ifdef SIM_HAVE_BODYFIT
     fit_model *model;
+    fit_clip *clip; /* a motion-capture clip (motion FILE.bvh), else NULL */
 #endif
 };
 
@@ -49,6 +50,7 @@ void sim_scene_destroy(sim_scene *sc)
     if (!sc)
         return;
 #ifdef SIM_HAVE_BODYFIT
+    fit_clip_destroy(sc->clip);
     fit_model_destroy(sc->model);
 #endif
     free(sc->rest);
@@ -124,7 +126,7 @@ static double all_duration(void)
 
 int sim_scene_segment(const sim_scene *sc, double t_s, double *local_s)
 {
-    if (sc->kind == 0 || sc->motion >= 0) {
+    if (sc->kind == 0 || sc->motion != -1) {
         if (local_s)
             *local_s = t_s;
         return -1;
@@ -178,10 +180,27 @@ static void all_motions_pose(const sim_scene *sc, double t_s, fit_pose *pose)
     }
 }
 
+static int is_bvh(const char *motion)
+{
+    size_t n = strlen(motion);
+    return n > 4 && strcmp(motion + n - 4, ".bvh") == 0;
+}
+
+/* motion FILE.bvh: the clip retargeted onto the scene's model. */
+static int load_clip(sim_scene *sc, const char *path, char *err, size_t err_size)
+{
+    fit_bvh *b = NULL;
+    int rc = fit_bvh_load(path, &b, err, err_size);
+    if (!rc)
+        rc = fit_clip_from_bvh(b, sc->model, &sc->clip, err, err_size);
+    fit_bvh_destroy(b);
+    return rc;
+}
+
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
 {
-    int m = -1;
-    if (strcmp(motion, "all") != 0 && (m = fit_motion_from_name(motion)) < 0) {
+    int m = is_bvh(motion) ? -2 : -1;
+    if (strcmp(motion, "all") != 0 && !is_bvh(motion) && (m = fit_motion_from_name(motion)) < 0) {
         snprintf(err, err_size, "motion '%s' unknown", motion);
         return NULL;
     }
@@ -202,6 +221,10 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     memcpy(sc->tris, fit_model_triangles(model), (size_t)sc->nt * 3 * sizeof *sc->tris);
     snprintf(sc->describe, sizeof sc->describe, "body model (%d vertices), motion %s", sc->nv,
              motion);
+    if (is_bvh(motion) && load_clip(sc, motion, err, err_size) != 0) {
+        sim_scene_destroy(sc);
+        return NULL;
+    }
     return sc;
 }
 
@@ -210,7 +233,9 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
 {
     if (sc->kind == 1) {
         fit_pose pose;
-        if (sc->motion >= 0)
+        if (sc->clip)
+            fit_clip_eval(sc->clip, t_s, &pose);
+        else if (sc->motion >= 0)
             fit_motion_eval((fit_motion)sc->motion, t_s, &pose);
         else
             all_motions_pose(sc, t_s, &pose);
@@ -230,6 +255,8 @@ double sim_scene_duration(const sim_scene *sc)
 {
     if (sc->kind != 1)
         return 1e9;
+    if (sc->clip)
+        return fit_clip_duration(sc->clip);
     if (sc->motion >= 0)
         return fit_motion_duration((fit_motion)sc->motion);
     return all_duration();

@@ -12,7 +12,8 @@ typedef struct sim_scene sim_scene;
 sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangles);
 /* The body model playing motion ("all" = still, arm_raise, turn, walk, fast_swing in turn, 3-4 s
  * each, each ending in the pose it started from and crossfading from the one before over 0.5 s).
- * NULL with err filled when the motion is unknown. */
+ * A motion ending in ".bvh" is a motion-capture file retargeted onto the model (bodyfit.h,
+ * fit_clip). NULL with err filled when the motion is unknown or the file refused. */
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size);
 void sim_scene_destroy(sim_scene *sc);
 

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "carry.h"
 #include "cloth.h"
 
 #define SIM_ERROR_NAME(id, text) #id,
@@ -35,6 +36,8 @@ const char *sim_state_name(sim_state s)
         return "recovered";
     case SIM_STATE_DIVERGED:
         return "diverged";
+    case SIM_STATE_CARRIED:
+        return "carried";
     }
     return "unknown";
 }
@@ -323,14 +326,18 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
     s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
+    s->carry = sim_carry_create(d.max_body_vertices);
+    s->x_first = malloc((size_t)nv * sizeof *s->x_first);
+    s->body_first = malloc((size_t)d.max_body_vertices * sizeof *s->body_first);
     if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
-        !s->tris3 || !s->follow_pq ||
+        !s->tris3 || !s->follow_pq || !s->carry || !s->x_first || !s->body_first ||
         body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
         return NULL;
     }
     save_good(s);
+    memcpy(s->x_first, s->cloth.x, (size_t)nv * sizeof *s->x_first);
     s->iters_good = d.iterations;
     memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
 
@@ -374,6 +381,9 @@ void sim_destroy(sim *s)
     free(s->scratch);
     free(s->tris3);
     free(s->follow_pq);
+    sim_carry_destroy(s->carry);
+    free(s->x_first);
+    free(s->body_first);
     free(s);
 }
 
@@ -410,8 +420,14 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     }
     sim_strain_stats(c, s->scratch, max_strain, p99_strain);
     int growing = *max_strain > 1.05f * s->strain_good + 0.01f;
-    int relaxing = *max_strain < 0.9f * s->strain_good;
-    return (growing && !(*max_strain < SIM_DIVERGE_STRAIN)) || (too_fast && !relaxing);
+    /* relaxing from a real stretch (a percent at least): at rest, strains of 1e-7 are rounding,
+       and a cloth in free fall "relaxed" from 9e-7 to 2e-7 while falling 5 km in a frame */
+    int relaxing = s->strain_good > 0.01f && *max_strain < 0.9f * s->strain_good;
+    /* a stretch no fabric survives is a failure unless it is relaxing: growing or standing (a
+       state stuck at 30x its rest length passed while it merely stayed there, docs/sim.md,
+       "Real motion") */
+    return (!(*max_strain < SIM_DIVERGE_STRAIN) && (growing || !relaxing)) ||
+           (too_fast && !relaxing);
 }
 
 /* How far a frame's strain is over the retry goals: > 1 misses one of them; 0 without goals
@@ -502,10 +518,72 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                               "body rejected by the collider: %s", sim_collide_error_str(r));
     body_store(&s->body, xyz, nv, tris, nt);
     s->body.stored++;
+    if (s->body.stored == 1) { /* the body the garment was made on: for re-dressing (carry) */
+        memcpy(s->body_first, s->body.v, (size_t)nv * sizeof *s->body_first);
+        s->first_nv = nv;
+        s->first_nt = nt;
+    }
     body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
     if (r == SIM_COLLIDE_ETOPOLOGY)
         s->body.have_prev = 0;
     sim_follow_motion(s);
+    return 0;
+}
+
+/* The garment as made, moved rigidly as its attachments moved since the body it was made on
+   (Horn's fit, follow.c): no spring is stretched, whatever the pose. 0, or -1 without three
+   attachments or with another body topology. */
+static int redress_rigid(sim *s)
+{
+    int na = s->cloth.num_attachments;
+    if (na < 3 || s->first_nv != s->body.nv || s->first_nt != s->body.nt)
+        return -1;
+    double(*p)[3] = s->follow_pq, (*q)[3] = s->follow_pq + na;
+    for (int a = 0; a < na; a++) {
+        const sim_attachment *at = &s->cloth.attachments[a];
+        const int32_t *t = s->body.tris[at->body_triangle];
+        for (int d = 0; d < 3; d++) {
+            p[a][d] = q[a][d] = 0.0;
+            for (int k = 0; k < 3; k++) {
+                p[a][d] += (double)at->bary[k] * s->body_first[t[k]][d];
+                q[a][d] += (double)at->bary[k] * s->body.v[t[k]][d];
+            }
+        }
+    }
+    float m[12];
+    if (sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, na, 1.0, m) != 0)
+        return -1;
+    for (int i = 0; i < s->cloth.nv; i++) {
+        const float *x = s->x_first[i];
+        for (int r = 0; r < 3; r++)
+            s->cloth.x[i][r] =
+                m[r * 4] * x[0] + m[r * 4 + 1] * x[1] + m[r * 4 + 2] * x[2] + m[r * 4 + 3];
+        s->cloth.x[i][3] = x[3];
+    }
+    return 0;
+}
+
+/* No attempt solved the frame: the last good cloth (restored) carried by the body from its last
+   frame to this one, at rest in it (a velocity that diverged is not kept). When that cloth is
+   itself stretched past SIM_CARRY_MAX_STRAIN (a bad state the solver cannot leave), the garment
+   is dressed again: the garment as made, moved rigidly with its attachments (a garment without
+   them: carried point by point from the body it was made on). 0, or -1 when there is no last
+   body frame to carry from (the cloth stays as it was). */
+static int carry_good(sim *s)
+{
+    if (sim_carry_points(s->carry, &s->body, s->cloth.x, s->cloth.nv) < 0)
+        return -1;
+    float max_strain, p99;
+    sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
+    if (!(max_strain <= SIM_CARRY_MAX_STRAIN) && redress_rigid(s) != 0 &&
+        s->first_nv == s->body.nv && s->first_nt == s->body.nt) {
+        memcpy(s->cloth.x, s->x_first, (size_t)s->cloth.nv * sizeof *s->cloth.x);
+        sim_carry_between(s->carry, (const float(*)[4])s->body_first, (const float(*)[4])s->body.v,
+                          (const int32_t(*)[4])s->body.tris, s->body.nv, s->body.nt, s->cloth.x,
+                          s->cloth.nv);
+    }
+    memcpy(s->cloth.x_prev, s->cloth.x, (size_t)s->cloth.nv * sizeof *s->cloth.x_prev);
+    s->ops->upload(s->backend, s);
     return 0;
 }
 
@@ -587,22 +665,29 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     st->iterations_used = iters;
     s->frame++;
     double t2 = now_ms();
-    if (!ok) {
-        st->state = SIM_STATE_DIVERGED;
-        sim_strain_stats(&s->cloth, s->scratch, &st->max_strain, &st->p99_strain);
-        st->ms_total = (float)(now_ms() - t0);
-        return sim_reject_set(why, SIM_ERR_DIVERGED,
-                              "frame %ld: diverged with %d, and up to %d iterations; the last "
-                              "good cloth is kept",
-                              s->frame, s->desc.iterations, iters);
-    }
-    st->state = st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK;
+    int carried = !ok && carry_good(s) == 0;
+    /* What is published is measured, whatever made it: solved, carried or kept. */
+    if (!ok)
+        sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);
     st->max_strain = max_strain;
     st->p99_strain = p99;
     float depth = 0.0f;
     sim_collider_penetration(s->collider, (const float(*)[4])s->cloth.x, s->cloth.nv, SIM_PEN_TOL_M,
                              &st->penetrating, &depth);
     st->max_pen_mm = depth * 1000.0f;
+    if (!ok && !carried) {
+        st->state = SIM_STATE_DIVERGED;
+        st->ms_total = (float)(now_ms() - t0);
+        return sim_reject_set(why, SIM_ERR_DIVERGED,
+                              "frame %ld: diverged with %d, and up to %d iterations; the last "
+                              "good cloth is kept",
+                              s->frame, s->desc.iterations, iters);
+    }
+    st->state = carried ? SIM_STATE_CARRIED : (st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK);
+    if (carried) {
+        excess = strain_excess(s, max_strain, p99);
+        iters = s->desc.iterations;
+    }
     keep_good(s, max_strain); /* the strain of this very state, measured by state_diverged */
     s->excess_good = excess;
     s->iters_good = iters;

@@ -97,7 +97,11 @@ sim_desc sim_default_desc(void); /* every field filled with its default */
 typedef enum sim_state {
     SIM_STATE_OK = 0,
     SIM_STATE_RECOVERED = 1,
-    SIM_STATE_DIVERGED = 2
+    SIM_STATE_DIVERGED = 2, /* no attempt solved the frame and nothing carried it: kept */
+    /* no attempt solved the frame: the last good cloth was carried by the body from the last
+       body frame to this one (each point with the body's surface nearest it) and the solver
+       resettles from there on the next frame (cloth_t STATE_CARRIED) */
+    SIM_STATE_CARRIED = 4
 } sim_state;
 const char *sim_state_name(sim_state s);
 

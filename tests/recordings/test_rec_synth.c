@@ -150,6 +150,43 @@ static void test_motion_names_and_bad_arguments(void **state)
     assert_int_equal(rec_synth(&d, &why), REC_ERR_ARG);
 }
 
+/* A motion-capture clip: recorded as its retargeted poses, named by its file; a file that is no
+ * BVH is refused with its name. */
+static void test_motion_capture_clip_is_recorded(void **state)
+{
+    (void)state;
+    const char *bvh = "/usr/share/assimp/models/BVH/Boxing_Toes.bvh";
+    synth(dir_b, bvh, 3, 0, 1);
+    int frames = 0;
+    rec_report why;
+    assert_int_equal(rec_validate(dir_b, &frames, &why), REC_OK);
+    assert_int_equal(frames, 3);
+    rec_gt g;
+    read_gt(dir_b, 2, &g);
+    assert_string_equal(g.motion, "Boxing_Toes.bvh");
+    fit_model_desc md = {.shape = fit_shape_preset(1), .target_vertices = SMALL_MESH};
+    char err[256];
+    fit_model *m = fit_model_create(&md, err, sizeof err);
+    fit_bvh *b = NULL;
+    fit_clip *c = NULL;
+    assert_non_null(m);
+    assert_int_equal(fit_bvh_load(bvh, &b, err, sizeof err), 0);
+    assert_int_equal(fit_clip_from_bvh(b, m, &c, err, sizeof err), 0);
+    fit_pose p;
+    fit_clip_eval(c, 2.0 / 30.0, &p);
+    for (int k = 0; k < 3; k++)
+        assert_true(fabsf(g.pose[k] - p.root[k]) < 1e-5f);
+    for (int j = 0; j < FIT_JOINT_COUNT; j++)
+        for (int k = 0; k < 3; k++)
+            assert_true(fabsf(g.pose[3 + 3 * j + k] - p.rot[j][k]) < 1e-5f);
+    fit_clip_destroy(c);
+    fit_bvh_destroy(b);
+    fit_model_destroy(m);
+    rec_synth_desc d = {.out_dir = dir_b, .motion = "/nonexistent/walk.bvh", .frames = 1};
+    assert_int_equal(rec_synth(&d, &why), REC_ERR_ARG);
+    assert_non_null(strstr(why.message, "/nonexistent/walk.bvh"));
+}
+
 static void test_fast_swing_wrist_reaches_3_m_per_s_at_30_fps(void **state)
 {
     (void)state;
@@ -183,6 +220,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ground_truth_rebuilds_the_frame_exactly),
         cmocka_unit_test(test_motion_names_and_bad_arguments),
+        cmocka_unit_test(test_motion_capture_clip_is_recorded),
         cmocka_unit_test(test_fast_swing_wrist_reaches_3_m_per_s_at_30_fps),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

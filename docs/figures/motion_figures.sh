@@ -1,0 +1,62 @@
+#!/bin/sh
+# The real-motion figures in docs/sim.md ("Real motion"): tryon-bench-sim on the scripted motions
+# that real motion spends its time in and on the three CMU / boxing clips of Debian's
+# assimp-testmodels, 7,000 vertices, 25 iterations, C backend; each run's final JSON line is kept
+# in $OUT/motion.jsonl and a table of the figures the issue asks for is printed.
+# usage: docs/figures/motion_figures.sh BUILD_DIR [CLIP_FRAMES|map]
+#        CLIP_FRAMES: 0 (default) = whole clips; N = their first N frames (a quick look)
+#        map: only the stability map's motion axes (arm angle: arms_down, trunk bend speed:
+#        bend_forward 1 Hz / bend_fast 0.7 s, wrist speed: fast_swing) against the time step
+#        (10, 25, 50 steps a frame) for each solver, 90 frames each, into $OUT/map.jsonl
+set -eu
+B=${1:-build}
+CLIP_FRAMES=${2:-0}
+BENCH=$B/sim/tryon-bench-sim
+OUT=$B/motion-figures
+BVH=/usr/share/assimp/models/BVH
+mkdir -p "$OUT"
+table() { python3 - "$1" <<'PY'
+import json, os, sys
+print("%-16s %-6s %5s %6s %8s %6s %8s %9s %9s %8s %8s" % ("motion", "solver", "iters", "frames",
+      "carried", "run", "pen0_%", "strain_%", "max_str%", "pen_mm", "ms_med") + " ms_p95")
+for line in open(sys.argv[1]):
+    j = json.loads(line)
+    print("%-16s %-6s %5d %6d %8d %6d %8.1f %9.1f %9.1f %8.1f %8.1f %6.1f" % (
+        os.path.basename(j["motion"])[:16], j["solver"], j["iterations"], j["frames"],
+        j["carried_frames"], j["carried_run"], j["pen_free_frames_pct"],
+        j["strain_ok_frames_pct"], 100 * j["max_strain"], j["max_pen_mm"], j["ms_median"],
+        j["ms_p95"]))
+PY
+}
+if [ "$CLIP_FRAMES" = map ]; then
+    : > "$OUT/map.jsonl"
+    for solver in tryon seed; do
+        for it in 10 25 50; do
+            for m in arms_down bend_forward bend_fast fast_swing; do
+                "$BENCH" --scene body --verts 7000 --iterations "$it" --backend c --no-ref \
+                    --solver "$solver" --motion "$m" --frames 90 | tail -n 1 >> "$OUT/map.jsonl"
+            done
+        done
+    done
+    table "$OUT/map.jsonl"
+    exit 0
+fi
+: > "$OUT/motion.jsonl"
+run() { "$BENCH" --scene body --verts 7000 --iterations 25 --backend c --no-ref "$@" | tail -n 1 \
+    >> "$OUT/motion.jsonl"; }
+
+# scripted: one 6 s take each (arms_down and boxing_guard: 1.5 s in, 3 s held, 1.5 s out)
+for m in arms_down boxing_guard bend_forward bend_side twist bend_fast; do
+    run --motion "$m" --frames 180
+done
+for c in 01_01 01_03 Boxing_Toes; do
+    if [ "$CLIP_FRAMES" -gt 0 ]; then
+        run --motion "$BVH/$c.bvh" --frames "$CLIP_FRAMES"
+    else
+        run --motion "$BVH/$c.bvh"
+    fi
+done
+
+# the table: frames, carried (longest run), % frames without penetration, % frames within the
+# strain bounds, worst published strain and depth, ms median / p95
+table "$OUT/motion.jsonl"
