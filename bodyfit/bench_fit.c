@@ -371,6 +371,12 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             exit(0);
+        } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
+                   strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
+                   strcmp(a, "--frames")) {
+            fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
+            usage(stderr);
+            return -1;
         } else if (!v)
             bad = 1;
         else if (!strcmp(a, "--out"))
