@@ -2,7 +2,6 @@
  * raw-to-millimetre table tryon-capture uses), fits every frame with the tracker tryon-bodyfit
  * runs, and scores it against tryon-synth's ground truth where there is one. A table per
  * recording, then one JSON line (docs/bodyfit.md). */
-#include "bench_fit_metrics.h"
 #include "fit_track.h"
 #include "recordings.h"
 
@@ -192,8 +191,8 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
         for (int k = 0; k < 3; ++k)
             n[k] = l > 0.0f ? n[k] / l : 0.0f;
     }
-    double d = 0.5 * (fitm_mean_to_surface(r->vertices, r->vertex_count, tv, tn, ntv) +
-                      fitm_mean_to_surface(tv, ntv, r->vertices, fn, r->vertex_count));
+    double d = 0.5 * (fit_mean_surface_distance(r->vertices, r->vertex_count, tv, tn, ntv) +
+                      fit_mean_surface_distance(tv, ntv, r->vertices, fn, r->vertex_count));
     double je = 0.0;
     for (int j = 0; j < FIT_JOINT_COUNT; ++j) {
         float e[3] = {r->joints[j * 3] - tj[j * 3], r->joints[j * 3 + 1] - tj[j * 3 + 1],

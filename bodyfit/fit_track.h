@@ -127,4 +127,10 @@ int fit_vertex_jacobian(const fit_model *m, const fit_pose *pose, int vertex, fl
 /* Applies such a step to a pose (the local axis-angles change; the root moves). */
 void fit_pose_apply_step(const fit_model *m, fit_pose *pose, const double *step);
 
+/* Mean distance (m) from each vertex of a to the surface of b, approximated by the distance to
+ * the tangent plane of b's nearest vertex (exact on flat parts; the nearest vertex alone would
+ * add about half the vertex spacing). b_normals: unit normals of b. -1 without memory. */
+double fit_mean_surface_distance(const float *a, int na, const float *b, const float *b_normals,
+                                 int nb);
+
 #endif

@@ -1,6 +1,6 @@
-/* Mesh-to-mesh distance for tryon-bench-fit: a uniform grid over b, nearest vertex search
+/* Mesh-to-mesh distance (tryon-bench-fit, tests): a uniform grid over b, nearest vertex search
  * growing ring by ring. */
-#include "bench_fit_metrics.h"
+#include "fit_track.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -8,7 +8,7 @@
 
 #define FITM_CELL_M 0.03f
 
-double fitm_mean_to_surface(const float *a, int na, const float *b, const float *bn, int nb)
+double fit_mean_surface_distance(const float *a, int na, const float *b, const float *bn, int nb)
 {
     float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
     for (int i = 0; i < nb; ++i)
