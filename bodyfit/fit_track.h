@@ -46,7 +46,7 @@ fit_frame_error fit_depth_view_check(const fit_depth_view *v, char *why, size_t 
 typedef struct fit_segment_desc {
     int stride;         /* 0 = 2: every stride-th pixel in x and y */
     float min_depth_m;  /* 0 = 0.5 */
-    float max_depth_m;  /* 0 = 4.2: the working volume's far end */
+    float max_depth_m;  /* 0 = 3.8: the working volume's far end (a wall at 4 m is out) */
     float max_height_m; /* 0 = 2.4: above the floor */
     float floor_band_m; /* 0 = 0.04: points this close to the floor plane are floor */
     float bg_margin_m;  /* 0 = 0.10: nearer than the learned background by this is foreground */

@@ -21,6 +21,9 @@
 #define SEG_RANSAC_SAMPLE 2000
 /* A person-sized component reaches this high above the floor (a box or a chair does not). */
 #define SEG_PERSON_TOP_M 0.9f
+/* Nor is it wider across the floor than this (arm span is about the height, 2.1 m at most):
+ * a wall or a sofa is. */
+#define SEG_PERSON_SPAN_M 2.3f
 /* Components whose centroids are this close on the floor are one person (an occluder splits
  * a body into pieces). */
 #define SEG_MERGE_M   0.6f
@@ -28,7 +31,7 @@
 
 typedef struct comp_info {
     double sum[3];
-    float top;
+    float top, lo[3], hi[3];
     int count;
 } comp_info;
 
@@ -63,7 +66,7 @@ fit_segmenter *fit_segmenter_create(const fit_segment_desc *d, char *err, size_t
     fit_segment_desc *x = &s->d;
     x->stride = x->stride > 0 ? x->stride : 2;
     x->min_depth_m = x->min_depth_m > 0 ? x->min_depth_m : 0.5f;
-    x->max_depth_m = x->max_depth_m > 0 ? x->max_depth_m : 4.2f;
+    x->max_depth_m = x->max_depth_m > 0 ? x->max_depth_m : 3.8f;
     x->max_height_m = x->max_height_m > 0 ? x->max_height_m : 2.4f;
     x->floor_band_m = x->floor_band_m > 0 ? x->floor_band_m : 0.04f;
     x->bg_margin_m = x->bg_margin_m > 0 ? x->bg_margin_m : 0.10f;
@@ -150,14 +153,50 @@ static float plane_dist(const float pl[4], const float *p)
     return pl[0] * p[0] + pl[1] * p[1] + pl[2] * p[2] + pl[3];
 }
 
-/* RANSAC over a sample of the valid points: the plane with the most inliers whose normal is
- * near the camera pose's up. Without one, the world's y = 0 (the camera pose's floor). */
+/* The floor's height band: the lowest 2 cm height bin (along the camera pose's up) holding at
+ * least 1 % of the points, and 15 cm above it. RANSAC draws its triples there. */
+#define SEG_FLOOR_BIN_M  0.02f
+#define SEG_FLOOR_BINS   512
+#define SEG_FLOOR_BAND_M 0.15f
+
+static int seg_floor_candidates(fit_segmenter *s, int nv)
+{
+    int hist[SEG_FLOOR_BINS] = {0};
+    float lo = 1e9f;
+    for (int k = 0; k < nv; ++k)
+        lo = fminf(lo, s->world[(size_t)s->valid_idx[k] * 3 + 1]);
+    for (int k = 0; k < nv; ++k) {
+        int b = (int)((s->world[(size_t)s->valid_idx[k] * 3 + 1] - lo) / SEG_FLOOR_BIN_M);
+        hist[b < SEG_FLOOR_BINS ? b : SEG_FLOOR_BINS - 1]++;
+    }
+    int floor_bin = -1;
+    for (int b = 0; b < SEG_FLOOR_BINS && floor_bin < 0; ++b)
+        if (hist[b] * 100 >= nv)
+            floor_bin = b;
+    if (floor_bin < 0)
+        return 0;
+    float y0 = lo + (float)floor_bin * SEG_FLOOR_BIN_M - SEG_FLOOR_BAND_M;
+    float y1 = lo + (float)(floor_bin + 1) * SEG_FLOOR_BIN_M + SEG_FLOOR_BAND_M;
+    int n = 0;
+    for (int k = 0; k < nv; ++k) {
+        float y = s->world[(size_t)s->valid_idx[k] * 3 + 1];
+        if (y >= y0 && y <= y1)
+            s->valid_idx[n++] = s->valid_idx[k];
+    }
+    return n;
+}
+
+/* RANSAC over the points of the floor's height band: the plane with the most inliers whose
+ * normal is near the camera pose's up. Without one, the world's y = 0 (the camera pose's
+ * floor). */
 static void seg_floor(fit_segmenter *s)
 {
     int nv = 0;
     for (int i = 0, n = s->w * s->h; i < n; ++i)
         if (s->depth[i] > 0.0f && !s->edge[i])
             s->valid_idx[nv++] = i;
+    int all = nv;
+    nv = nv ? seg_floor_candidates(s, nv) : 0;
     int best = 0, sample = nv < SEG_RANSAC_SAMPLE ? nv : SEG_RANSAC_SAMPLE;
     float best_pl[4] = {0.0f, 1.0f, 0.0f, 0.0f};
     for (int t = 0; t < SEG_RANSAC_TRIES && nv >= 3; ++t) {
@@ -181,14 +220,13 @@ static void seg_floor(fit_segmenter *s)
             int i = s->valid_idx[(size_t)k * (size_t)nv / (size_t)sample];
             in += fabsf(plane_dist(pl, s->world + (size_t)i * 3)) < SEG_RANSAC_BAND_M;
         }
-        /* The lowest of equally supported planes: a table top is not the floor. */
-        if (in > best || (in == best && in > 0 && pl[3] > best_pl[3])) {
+        if (in > best) {
             best = in;
             memcpy(best_pl, pl, sizeof pl);
         }
     }
-    /* At least 3 % of the points: a floor seen over a strip of the image. */
-    s->floor_found = sample > 0 && best * 33 >= sample;
+    /* Inliers worth at least 1 % of the image's points: a floor seen over a strip. */
+    s->floor_found = sample > 0 && (double)best * nv / sample * 100.0 >= all;
     if (s->floor_found)
         memcpy(s->floor, best_pl, sizeof best_pl);
     else if (!s->frames)
@@ -215,14 +253,17 @@ static int seg_pick(fit_segmenter *s, int ncomp, comp_info *ci, const float cam[
                     const float axis[3], int *persons)
 {
     for (int c = 0; c < ncomp; ++c)
-        ci[c] = (comp_info){{0, 0, 0}, -1e9f, 0};
+        ci[c] = (comp_info){{0, 0, 0}, -1e9f, {1e9f, 1e9f, 1e9f}, {-1e9f, -1e9f, -1e9f}, 0};
     for (int i = 0, n = s->w * s->h; i < n; ++i) {
         int l = s->labels[i] - 1;
         if (l < 0 || l >= ncomp)
             continue;
         const float *p = s->world + (size_t)i * 3;
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 3; ++k) {
             ci[l].sum[k] += p[k];
+            ci[l].lo[k] = fminf(ci[l].lo[k], p[k]);
+            ci[l].hi[k] = fmaxf(ci[l].hi[k], p[k]);
+        }
         ci[l].top = fmaxf(ci[l].top, plane_dist(s->floor, p));
         ci[l].count++;
     }
@@ -230,7 +271,9 @@ static int seg_pick(fit_segmenter *s, int ncomp, comp_info *ci, const float cam[
     float best_cos = -2.0f;
     *persons = 0;
     for (int c = 0; c < ncomp; ++c) {
-        if (ci[c].count < s->d.min_pixels || ci[c].top < SEG_PERSON_TOP_M)
+        float wx = ci[c].hi[0] - ci[c].lo[0], wz = ci[c].hi[2] - ci[c].lo[2];
+        if (ci[c].count < s->d.min_pixels || ci[c].top < SEG_PERSON_TOP_M ||
+            wx * wx + wz * wz > SEG_PERSON_SPAN_M * SEG_PERSON_SPAN_M)
             continue;
         ++*persons;
         float r[3], l = 0.0f;
