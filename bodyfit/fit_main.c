@@ -24,7 +24,7 @@ typedef struct fitp {
     size_t data_cap;
     int have_pending;
     int64_t pending_received;
-    int triangles_every, max_frames;
+    int triangles_every, max_frames, queue_all;
     long published, skipped, bad, last_triangles_seq, last_topology;
 } fitp;
 
@@ -58,6 +58,15 @@ static void on_depth(const char *channel, const void *msg, void *user)
     p->pending.source = NULL;
     p->have_pending = 1;
     p->pending_received = bus_now_wall_us();
+}
+
+static void fit_pending(fitp *p);
+
+/* --queue all: every frame is fitted as it arrives (tests, offline replays). */
+static void on_depth_all(const char *channel, const void *msg, void *user)
+{
+    on_depth(channel, msg, user);
+    fit_pending(user);
 }
 
 static void publish(fitp *p, const tryon_depth_frame_t *f, const fit_result *r, bus_timing *timing)
@@ -141,12 +150,13 @@ static int parse_count(const char *s, int lo, int hi, int *out)
 static void usage(FILE *f)
 {
     fprintf(f, "usage: tryon-bodyfit [--frames N] [--vertices N] [--fit-vertices N] [--points N]\n"
-               "                     [--iterations N] [--triangles-every N]\n"
+               "                     [--iterations N] [--triangles-every N] [--queue latest|all]\n"
                "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
                "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
-               "the newest frame wins. --frames: exit after N bodies. --vertices: the published\n"
-               "mesh (6000); --fit-vertices: the coarse mesh fitted (1500); --points: data points\n"
-               "per frame (400); --iterations: Gauss-Newton iterations per frame (6).\n"
+               "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
+               "exit after N bodies. --vertices: the published mesh (6000); --fit-vertices: the\n"
+               "coarse mesh fitted (1500); --points: data points per frame (400); --iterations:\n"
+               "Gauss-Newton iterations per frame (6).\n"
                "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
 }
 
@@ -160,7 +170,8 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
             exit(0);
         } else if (strcmp(a, "--frames") && strcmp(a, "--vertices") &&
                    strcmp(a, "--fit-vertices") && strcmp(a, "--points") &&
-                   strcmp(a, "--iterations") && strcmp(a, "--triangles-every")) {
+                   strcmp(a, "--iterations") && strcmp(a, "--triangles-every") &&
+                   strcmp(a, "--queue")) {
             fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -176,7 +187,10 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
             bad = parse_count(v, 20, 100000, &d->points);
         else if (!strcmp(a, "--iterations"))
             bad = parse_count(v, 1, 200, &d->iterations);
-        else if (!strcmp(a, "--triangles-every"))
+        else if (!strcmp(a, "--queue")) {
+            bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0;
+            p->queue_all = !strcmp(v, "all");
+        } else if (!strcmp(a, "--triangles-every"))
             bad = parse_count(v, 1, 1000000, &p->triangles_every);
         else {
             fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
@@ -214,7 +228,8 @@ int main(int argc, char **argv)
     }
     bus_channel(BUS_CHANNEL_DEPTH, depth_channel, sizeof depth_channel);
     bus_channel(BUS_CHANNEL_BODY, p.body_channel, sizeof p.body_channel);
-    sub = bus_subscribe(p.lcm, depth_channel, BUS_DEPTH_FRAME, on_depth, &p);
+    sub = bus_subscribe(p.lcm, depth_channel, BUS_DEPTH_FRAME,
+                        p.queue_all ? on_depth_all : on_depth, &p);
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     fprintf(stderr, "tryon-bodyfit: listening on %s -> %s\n", depth_channel, p.body_channel);
