@@ -49,4 +49,21 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
  * the last solve: 0 torso, 1 arms, 2 legs; counts in n. */
 void fit_solver_part_offsets(const fit_solver *s, double off[3], int n[3]);
 
+/* Topology-keeping shape changes (fit_shape_adapt.c): a copy of a model's rest mesh, normals
+ * and joints, re-applied with a uniform scale and per-part girth offsets (m along the normal). */
+#define FIT_SHAPE_PARTS 3 /* torso (with head), arms, legs */
+typedef struct fit_shape_base {
+    float *v, *n;
+    int nv;
+    float joint[FIT_JOINT_COUNT][3];
+    fit_shape shape;
+} fit_shape_base;
+int fit_shape_base_init(fit_shape_base *b, const fit_model *m);
+void fit_shape_base_free(fit_shape_base *b);
+int fit_shape_part(int joint);
+void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, float scale,
+                          const float offset[FIT_SHAPE_PARTS]);
+fit_shape fit_shape_adapted(const fit_shape_base *b, float scale,
+                            const float offset[FIT_SHAPE_PARTS]);
+
 #endif

@@ -182,13 +182,6 @@ static void add_row(const fit_vjac *vj, const float g[3], float r, double w, dou
     }
 }
 
-static int part_of(int joint)
-{
-    if (joint <= FIT_HEAD)
-        return 0;
-    return joint < FIT_L_HIP ? 1 : 2;
-}
-
 typedef struct frame_ctx {
     float skin[FIT_JOINT_COUNT][12], joints[FIT_JOINT_COUNT * 3];
     grid g;
@@ -219,7 +212,7 @@ static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double 
         double w = a > SOLVE_HUBER_M ? w0 * SOLVE_HUBER_M / a : w0;
         add_row(&vj, n, -r, w, A, b);
         *sq += (double)r * r;
-        int part = part_of(s->m->wjoint[(size_t)v * FIT_MAX_INFLUENCES]);
+        int part = fit_shape_part(s->m->wjoint[(size_t)v * FIT_MAX_INFLUENCES]);
         s->part_off[part] -= r;
         s->part_n[part]++;
         ++in;

@@ -32,9 +32,11 @@ struct fit_tracker {
     int nearest_cap;
     fit_pose pose, prev;
     fit_shape shape;
-    int have_pose, person_frames, shape_done, topology_id;
-    double height_sum, off_sum[3];
-    int height_n, off_n[3];
+    fit_shape_base base_coarse, base_full;
+    float scale, offset[FIT_SHAPE_PARTS];
+    int have_pose, person_frames, topology_id;
+    double height_sum;
+    int height_n;
 };
 
 static double now_ms(void)
@@ -89,7 +91,14 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
         return NULL;
     }
     t->topology_id = 1;
-    t->shape_done = x->fixed_shape;
+    t->scale = 1.0f;
+    if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
+        fit_shape_base_init(&t->base_full, t->full)) {
+        if (err)
+            snprintf(err, errlen, "fit_tracker_create: out of memory");
+        fit_tracker_destroy(t);
+        return NULL;
+    }
     return t;
 }
 
@@ -101,6 +110,8 @@ void fit_tracker_destroy(fit_tracker *t)
     fit_model_destroy(t->full);
     fit_solver_destroy(t->solver);
     fit_segmenter_destroy(t->seg);
+    fit_shape_base_free(&t->base_coarse);
+    fit_shape_base_free(&t->base_full);
     free(t->verts);
     free(t->pts);
     free(t->nearest);
@@ -136,58 +147,62 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
     return n;
 }
 
-/* Shape from the first frames: height from the top of the person (standing, fully in view),
- * lengths scaled with it; girths grown by the mean signed offset of the points per part
- * (a girth is about 2 pi times its radius). */
-static void track_shape_update(fit_tracker *t, const fit_segment *sg, char *err, size_t errlen)
+/* Shape: the height from the top of the person over the first shape_frames frames (standing,
+ * fully in view), every length and girth scaled with it; then each part's girth from the mean
+ * signed offset of its points, fast over the first frames and slowly after (a person does not
+ * change shape between frames). The mesh keeps its topology (fit_shape_adapt.c). */
+#define TRACK_OFFSET_GAIN_INIT  0.5f
+#define TRACK_OFFSET_GAIN_AFTER 0.02f
+#define TRACK_OFFSET_MAX_M      0.04f
+#define TRACK_OFFSET_MIN_POINTS 20
+
+static void track_shape_apply(fit_tracker *t)
 {
-    if (!sg->touches_border) {
+    fit_shape_base_apply(&t->base_coarse, t->coarse, t->scale, t->offset);
+    fit_shape_base_apply(&t->base_full, t->full, t->scale, t->offset);
+    t->shape = fit_shape_adapted(&t->base_full, t->scale, t->offset);
+}
+
+static void track_shape_reset(fit_tracker *t)
+{
+    t->scale = 1.0f;
+    t->offset[0] = t->offset[1] = t->offset[2] = 0.0f;
+    t->height_sum = 0.0;
+    t->height_n = 0;
+    if (!t->d.fixed_shape)
+        track_shape_apply(t);
+}
+
+static void track_shape_update(fit_tracker *t, const fit_segment *sg)
+{
+    int init = t->person_frames <= t->d.shape_frames;
+    if (init && !sg->touches_border) {
         t->height_sum += sg->top_y;
         t->height_n++;
+        float h = (float)(t->height_sum / t->height_n), lo, hi;
+        fit_shape_param_range(0, &lo, &hi);
+        h = h < lo ? lo : (h > hi ? hi : h);
+        t->scale = h / t->base_full.shape.height;
     }
-    double off[3];
-    int n[3];
+    double off[FIT_SHAPE_PARTS];
+    int n[FIT_SHAPE_PARTS];
     fit_solver_part_offsets(t->solver, off, n);
-    for (int k = 0; k < 3; ++k)
-        if (n[k] > 20) {
-            t->off_sum[k] += off[k];
-            t->off_n[k]++;
-        }
-    if (t->person_frames < t->d.shape_frames || t->shape_done)
-        return;
-    t->shape_done = 1;
-    fit_shape s = fit_shape_default();
-    float a[FIT_SHAPE_PARAMS];
-    float h = t->height_n ? (float)(t->height_sum / t->height_n) : s.height;
-    float sc = h / s.height;
-    fit_shape_to_array(&s, a);
-    for (int i = 0; i < FIT_SHAPE_PARAMS; ++i)
-        a[i] *= sc;
-    static const int part_params[3][3] = {{2, 3, 4}, {6, -1, -1}, {8, -1, -1}};
-    for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3 && t->off_n[p]; ++q)
-            if (part_params[p][q] >= 0)
-                a[part_params[p][q]] += (float)(2.0 * 3.14159265 * t->off_sum[p] / t->off_n[p]);
-    for (int i = 0; i < FIT_SHAPE_PARAMS; ++i) {
-        float lo, hi;
-        fit_shape_param_range(i, &lo, &hi);
-        a[i] = fminf(fmaxf(a[i], lo), hi);
+    float gain = init ? TRACK_OFFSET_GAIN_INIT : TRACK_OFFSET_GAIN_AFTER;
+    for (int k = 0; k < FIT_SHAPE_PARTS; ++k) {
+        if (n[k] < TRACK_OFFSET_MIN_POINTS)
+            continue;
+        float o = t->offset[k] + gain * (float)off[k];
+        t->offset[k] = o < -TRACK_OFFSET_MAX_M ? -TRACK_OFFSET_MAX_M
+                                               : (o > TRACK_OFFSET_MAX_M ? TRACK_OFFSET_MAX_M : o);
     }
-    fit_shape est = fit_shape_from_array(a);
-    /* Proportions the model cannot build fall back to the height alone, then to the old. */
-    if (track_models(t, &est, err, errlen) == 0)
-        return;
-    s = fit_shape_default();
-    fit_shape_to_array(&s, a);
-    for (int i = 0; i < FIT_SHAPE_PARAMS; ++i)
-        a[i] *= sc;
-    est = fit_shape_from_array(a);
-    (void)track_models(t, &est, err, errlen);
+    track_shape_apply(t);
 }
 
 static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_error e,
                                   const char *why)
 {
+    if (t->have_pose || t->person_frames)
+        track_shape_reset(t); /* the next person may be another */
     t->have_pose = 0;
     t->person_frames = 0;
     out->state = FIT_STATE_LOST;
@@ -255,12 +270,13 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
-    if (!t->shape_done)
-        track_shape_update(t, &sg, err, sizeof err);
+    if (!t->d.fixed_shape)
+        track_shape_update(t, &sg);
     double t2 = now_ms();
     fit_model_pose(t->full, &t->pose, t->verts, out->joints);
     out->ms_skin = now_ms() - t2;
-    out->state = t->shape_done ? FIT_STATE_TRACKING : FIT_STATE_INIT;
+    out->state = t->d.fixed_shape || t->person_frames > t->d.shape_frames ? FIT_STATE_TRACKING
+                                                                          : FIT_STATE_INIT;
     out->pose = t->pose;
     out->shape = t->shape;
     out->vertices = t->verts;
