@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -66,23 +67,51 @@ extern "C" int cvs_components(const uint8_t *mask, int width, int height, int32_
     }
 }
 
-extern "C" int cvs_nearest_set(const uint8_t *mask, int width, int height, int32_t *nearest,
-                               char *err, size_t errlen)
+extern "C" int cvs_dilate(const uint8_t *mask, int width, int height, int radius, uint8_t *out,
+                          char *err, size_t errlen)
+{
+    try {
+        cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask)), o(height, width, CV_8U, out);
+        cv::Mat k =
+            cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
+        cv::dilate(m != 0, o, k);
+        o.setTo(1, o);
+        return 0;
+    } catch (const cv::Exception &e) {
+        return fail("cvs_dilate", e, err, errlen);
+    }
+}
+
+extern "C" int cvs_nearest_set(const uint8_t *mask, int width, int height, int margin,
+                               int32_t *nearest, int roi[4], char *err, size_t errlen)
 {
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask));
+        std::fill(nearest, nearest + (size_t)width * height, -1);
+        cv::Rect box = cv::boundingRect(m);
+        roi[0] = roi[1] = 0;
+        roi[2] = roi[3] = -1;
+        if (box.area() == 0)
+            return 0;
+        box.x -= margin, box.y -= margin, box.width += 2 * margin, box.height += 2 * margin;
+        box &= cv::Rect(0, 0, width, height);
+        roi[0] = box.x, roi[1] = box.y, roi[2] = box.x + box.width - 1;
+        roi[3] = box.y + box.height - 1;
         // distanceTransform measures to the nearest zero pixel: invert the mask.
-        cv::Mat inv = (m == 0);
+        cv::Mat inv = (m(box) == 0);
         cv::Mat dist, lab;
         cv::distanceTransform(inv, dist, lab, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-        // Labels number the zero pixels of inv (the set pixels of m) in scan order.
+        // Labels number the zero pixels of inv (the set pixels of m) in scan order of the box.
         std::vector<int32_t> where(1, -1);
-        for (int i = 0; i < width * height; ++i)
-            if (mask[i])
-                where.push_back(i);
-        for (int i = 0; i < width * height; ++i) {
-            int l = lab.at<int>(i / width, i % width);
-            nearest[i] = (l > 0 && l < (int)where.size()) ? where[(size_t)l] : -1;
+        for (int y = 0; y < box.height; ++y)
+            for (int x = 0; x < box.width; ++x)
+                if (mask[(size_t)(y + box.y) * width + x + box.x])
+                    where.push_back((y + box.y) * width + x + box.x);
+        for (int y = 0; y < box.height; ++y) {
+            const int *l = lab.ptr<int>(y);
+            int32_t *o = nearest + (size_t)(y + box.y) * width + box.x;
+            for (int x = 0; x < box.width; ++x)
+                o[x] = (l[x] > 0 && l[x] < (int)where.size()) ? where[(size_t)l[x]] : -1;
         }
         return 0;
     } catch (const cv::Exception &e) {

@@ -25,10 +25,16 @@ typedef struct cvs_component {
 int cvs_components(const uint8_t *mask, int width, int height, int32_t *labels,
                    cvs_component *comps, int max_comps, int *count, char *err, size_t errlen);
 
-/* For every pixel, the index (y * width + x) of the nearest set pixel of mask (L2 distance
- * transform with pixel labels), or -1 when the mask is empty. */
-int cvs_nearest_set(const uint8_t *mask, int width, int height, int32_t *nearest, char *err,
-                    size_t errlen);
+/* out = mask dilated by a (2 radius + 1) square (non-zero = set; out 0 or 1). */
+int cvs_dilate(const uint8_t *mask, int width, int height, int radius, uint8_t *out, char *err,
+               size_t errlen);
+
+/* Inside roi (x0, y0, x1, y1 inclusive: the set pixels' bounding box grown by margin, clipped
+ * to the image), the index (y * width + x) of the nearest set pixel of mask (L2 distance
+ * transform with pixel labels); -1 elsewhere and everywhere when the mask is empty (roi then
+ * 0 0 -1 -1). Only the box is transformed: the far background needs no answer. */
+int cvs_nearest_set(const uint8_t *mask, int width, int height, int margin, int32_t *nearest,
+                    int roi[4], char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -28,6 +28,7 @@ typedef struct fit_problem {
     int count;
     const fit_segment *seg; /* silhouette and depth (sampled grid); NULL = no such term */
     const int32_t *nearest; /* seg grid: nearest person pixel (cvs_nearest_set) */
+    int roi[4];             /* the box where nearest is known (cvs_nearest_set) */
     const fit_depth_view *view;
     const fit_pose *prev; /* temporal prior's anchor (last frame's pose) */
     int iterations;

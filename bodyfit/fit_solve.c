@@ -269,7 +269,10 @@ static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, 
             add_row(&vj, g, -(c[2] - (z - SOLVE_FRONT_SLACK_M)), w0, A, b);
             continue;
         }
-        int q = pb->nearest[i];
+        /* Outside the transformed box the nearest person pixel is the box edge's. */
+        int cx = gx < pb->roi[0] ? pb->roi[0] : (gx > pb->roi[2] ? pb->roi[2] : gx);
+        int cy = gy < pb->roi[1] ? pb->roi[1] : (gy > pb->roi[3] ? pb->roi[3] : gy);
+        int q = pb->roi[2] >= 0 ? pb->nearest[cy * sg->width + cx] : -1;
         if (q < 0)
             continue;
         float ru = ((float)((q % sg->width) * sg->stride) - vw->cx) / vw->fx;

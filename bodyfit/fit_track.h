@@ -90,6 +90,7 @@ typedef struct fit_tracker_desc {
     int iterations;      /* 0 = 6: Gauss-Newton iterations per tracked frame */
     int init_iterations; /* 0 = 40: from the rest pose when someone enters */
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
+    float temporal;      /* 0 = the default (2e-4): weight of the temporal prior */
     int fixed_shape;     /* 1 = use shape as given, never estimate it */
     fit_shape shape;     /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;

@@ -324,24 +324,20 @@ static void seg_person(fit_segmenter *s, int best, int ncomp, const comp_info *c
         out->centroid[k] = (float)(sum[k] / out->count);
 }
 
-/* The background keeps the farthest depth seen wherever the person is not (nor next to it). */
-static void seg_learn(fit_segmenter *s)
+/* The background keeps the farthest depth seen wherever the person is not (nor next to it:
+ * the cand buffer is free by now and holds the dilated person). */
+#define SEG_LEARN_GAP_PX 2
+
+static int seg_learn(fit_segmenter *s, char *err, size_t errlen)
 {
-    for (int y = 0; y < s->h; ++y)
-        for (int x = 0; x < s->w; ++x) {
-            int i = y * s->w + x;
-            float z = s->depth[i];
-            if (!(z > 0.0f))
-                continue;
-            int near = 0;
-            for (int dy = -2; dy <= 2 && !near; ++dy)
-                for (int dx = -2; dx <= 2 && !near; ++dx) {
-                    int xx = x + dx, yy = y + dy;
-                    near = xx >= 0 && yy >= 0 && xx < s->w && yy < s->h && s->mask[yy * s->w + xx];
-                }
-            if (!near && z > s->bg[i])
-                s->bg[i] = z;
-        }
+    if (cvs_dilate(s->mask, s->w, s->h, SEG_LEARN_GAP_PX, s->cand, err, errlen))
+        return -1;
+    for (int i = 0, n = s->w * s->h; i < n; ++i) {
+        float z = s->depth[i];
+        if (z > s->bg[i] && !s->cand[i])
+            s->bg[i] = z;
+    }
+    return 0;
 }
 
 static fit_frame_error seg_fail(fit_frame_error e, const char *detail, char *why, size_t whylen)
@@ -392,7 +388,8 @@ fit_frame_error fit_segmenter_frame(fit_segmenter *s, const fit_depth_view *v, f
     int best = seg_pick(s, ncomp, s->ci, cam, axis, &out->components);
     if (best >= 0)
         seg_person(s, best, ncomp, s->ci, out);
-    seg_learn(s);
+    if (seg_learn(s, err, sizeof err))
+        return seg_fail(FIT_FRAME_INTERNAL, err, why, whylen);
     s->frames++;
     return best >= 0 ? FIT_FRAME_OK : seg_fail(FIT_FRAME_NOBODY, NULL, why, whylen);
 }

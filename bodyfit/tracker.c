@@ -17,6 +17,9 @@
 /* Correspondence gates: wide from the rest pose, tighter once tracking. */
 #define TRACK_GATE_INIT_M  0.25f
 #define TRACK_GATE_TRACK_M 0.12f
+/* The silhouette's distance transform covers the person's box and this many grid pixels around
+ * it (20 px at stride 2 is 17 cm at 2.5 m: farther model vertices are pulled from the box edge). */
+#define TRACK_SILHOUETTE_MARGIN_PX 20
 /* Temporal prior weight (per m^2 or rad^2 against the data term's mean squared residual). */
 #define TRACK_TEMPORAL 2e-4f
 /* The pelvis joint stands this far behind the visible front surface (half a body depth). */
@@ -84,6 +87,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->iterations = x->iterations > 0 ? x->iterations : 6;
     x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
+    x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);
     if (!t->seg || track_models(t, &s0, err, errlen)) {
@@ -236,7 +240,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
             return track_lost(t, out, FIT_FRAME_INTERNAL, "out of memory");
     }
     char err[256];
-    if (cvs_nearest_set(sg.mask, sg.width, sg.height, t->nearest, err, sizeof err))
+    int roi[4];
+    if (cvs_nearest_set(sg.mask, sg.width, sg.height, TRACK_SILHOUETTE_MARGIN_PX, t->nearest, roi,
+                        err, sizeof err))
         return track_lost(t, out, FIT_FRAME_INTERNAL, err);
     out->ms_segment = now_ms() - t0;
     double t1 = now_ms();
@@ -247,11 +253,12 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                       .count = track_subsample(t, &sg),
                       .seg = &sg,
                       .nearest = t->nearest,
+                      .roi = {roi[0], roi[1], roi[2], roi[3]},
                       .view = v,
                       .prev = fresh ? NULL : &t->pose,
                       .iterations = fresh ? t->d.init_iterations : t->d.iterations,
                       .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
-                      .temporal = fresh ? 0.0f : TRACK_TEMPORAL};
+                      .temporal = fresh ? 0.0f : t->d.temporal};
     fit_pose pose = t->pose;
     t->prev = t->pose;
     pb.prev = fresh ? NULL : &t->prev;
