@@ -17,7 +17,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     liblcm-dev liblcm-bin libglib2.0-dev libcmocka-dev
     ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
     libfreenect-dev libfreenect-bin libopenni2-dev
-    clang-format gnuplot-nox libbullet-dev)
+    clang-format gnuplot-nox libbullet-dev libopencv-dev)
 
 as_root() {
     if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi
