@@ -379,7 +379,7 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             exit(0);
         } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
                    strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
-                   strcmp(a, "--frames") && strcmp(a, "--temporal")) {
+                   strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -399,6 +399,10 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             char *end;
             o->td.temporal = strtof(v, &end);
             bad = *end || !(o->td.temporal > 0.0f && o->td.temporal < 1e3f);
+        } else if (!strcmp(a, "--predict")) {
+            char *end;
+            o->td.predict = strtof(v, &end);
+            bad = *end || !(o->td.predict >= 0.0f && o->td.predict <= 2.0f);
         } else if (!strcmp(a, "--frames"))
             bad = parse_int(v, 1, 1000000, &o->max_frames);
         else {

@@ -33,11 +33,11 @@ struct fit_tracker {
     float *verts, *pts;
     int32_t *nearest;
     int nearest_cap;
-    fit_pose pose, prev;
+    fit_pose pose, prev, last; /* last: the pose fitted the frame before pose */
     fit_shape shape;
     fit_shape_base base_coarse, base_full;
     float scale, offset[FIT_SHAPE_PARTS];
-    int have_pose, person_frames, topology_id;
+    int have_pose, have_last, person_frames, topology_id;
     double height_sum;
     int height_n;
 };
@@ -88,6 +88,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
+    x->predict = x->predict > 0.0f ? x->predict : 0.0f;
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);
     if (!t->seg || track_models(t, &s0, err, errlen)) {
@@ -202,12 +203,23 @@ static void track_shape_update(fit_tracker *t, const fit_segment *sg)
     track_shape_apply(t);
 }
 
+static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *before, float g)
+{
+    for (int k = 0; k < 3; ++k)
+        out->root[k] = now->root[k] + g * (now->root[k] - before->root[k]);
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        for (int k = 0; k < 3; ++k)
+            out->rot[j][k] = now->rot[j][k] + g * (now->rot[j][k] - before->rot[j][k]);
+    fit_pose_clamp(out);
+}
+
 static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_error e,
                                   const char *why)
 {
     if (t->have_pose || t->person_frames)
         track_shape_reset(t); /* the next person may be another */
     t->have_pose = 0;
+    t->have_last = 0;
     t->person_frames = 0;
     out->state = FIT_STATE_LOST;
     out->error = e;
@@ -259,8 +271,12 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                       .iterations = fresh ? t->d.init_iterations : t->d.iterations,
                       .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
                       .temporal = fresh ? 0.0f : t->d.temporal};
-    fit_pose pose = t->pose;
+    /* Constant velocity: the last frame's motion, scaled by predict, starts the fit and anchors
+     * the temporal prior (a swinging arm is then not held back by where it was). */
     t->prev = t->pose;
+    if (!fresh && t->have_last && t->d.predict > 0.0f)
+        track_predict(&t->prev, &t->pose, &t->last, t->d.predict);
+    fit_pose pose = t->prev;
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = fit_solve(t->solver, &pb, &pose, &st);
@@ -274,6 +290,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                  st.inliers, pb.count, 1000.0f * pb.max_match_m, st.rms_mm);
         return track_lost(t, out, FIT_FRAME_FIT, NULL);
     }
+    t->last = t->pose;
+    t->have_last = !fresh;
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
