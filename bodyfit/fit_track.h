@@ -68,6 +68,7 @@ typedef struct fit_segment {
     float centroid[3];  /* world centroid of the person */
     float top_y;        /* highest person point above the floor, m */
     int touches_border; /* the person reaches the image border (partly out of frame) */
+    int touches_top;    /* the person reaches the top row: the head may be cut off */
 } fit_segment;
 
 fit_segmenter *fit_segmenter_create(const fit_segment_desc *d, char *err, size_t errlen);

@@ -152,10 +152,11 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
     return n;
 }
 
-/* Shape: the height from the top of the person over the first shape_frames frames (standing,
- * fully in view), every length and girth scaled with it; then each part's girth from the mean
- * signed offset of its points, fast over the first frames and slowly after (a person does not
- * change shape between frames). The mesh keeps its topology (fit_shape_adapt.c). */
+/* Shape: the height from the top of the person over the first shape_frames frames (unless the
+ * head reaches the top row; the feet often touch the bottom one), every length and girth scaled
+ * with it; then each part's girth from the mean signed offset of its points, fast over the first
+ * frames and slowly after (a person does not change shape between frames). The mesh keeps its
+ * topology (fit_shape_adapt.c). */
 #define TRACK_OFFSET_GAIN_INIT  0.5f
 #define TRACK_OFFSET_GAIN_AFTER 0.02f
 #define TRACK_OFFSET_MAX_M      0.04f
@@ -178,17 +179,24 @@ static void track_shape_reset(fit_tracker *t)
         track_shape_apply(t);
 }
 
-static void track_shape_update(fit_tracker *t, const fit_segment *sg)
+/* Before the fit of a person's first frames: the height from the top of the points, so the
+ * frame is fitted with it (after the fit, the model would grow under a placed pose). */
+static void track_height_update(fit_tracker *t, const fit_segment *sg)
+{
+    if (t->d.fixed_shape || t->person_frames >= t->d.shape_frames || sg->touches_top)
+        return;
+    t->height_sum += sg->top_y;
+    t->height_n++;
+    float h = (float)(t->height_sum / t->height_n), lo, hi;
+    fit_shape_param_range(0, &lo, &hi);
+    h = h < lo ? lo : (h > hi ? hi : h);
+    t->scale = h / t->base_full.shape.height;
+    track_shape_apply(t);
+}
+
+static void track_shape_update(fit_tracker *t)
 {
     int init = t->person_frames <= t->d.shape_frames;
-    if (init && !sg->touches_border) {
-        t->height_sum += sg->top_y;
-        t->height_n++;
-        float h = (float)(t->height_sum / t->height_n), lo, hi;
-        fit_shape_param_range(0, &lo, &hi);
-        h = h < lo ? lo : (h > hi ? hi : h);
-        t->scale = h / t->base_full.shape.height;
-    }
     double off[FIT_SHAPE_PARTS];
     int n[FIT_SHAPE_PARTS];
     fit_solver_part_offsets(t->solver, off, n);
@@ -259,6 +267,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->ms_segment = now_ms() - t0;
     double t1 = now_ms();
     int fresh = !t->have_pose;
+    track_height_update(t, &sg);
     if (fresh)
         track_initial_pose(t, &sg, v);
     fit_problem pb = {.points = t->pts,
@@ -296,7 +305,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     t->have_pose = 1;
     t->person_frames++;
     if (!t->d.fixed_shape)
-        track_shape_update(t, &sg);
+        track_shape_update(t);
     double t2 = now_ms();
     fit_model_pose(t->full, &t->pose, t->verts, out->joints);
     out->ms_skin = now_ms() - t2;
