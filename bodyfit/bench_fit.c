@@ -359,13 +359,15 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
-            "                       [--out-vertices N] [--frames N] RECORDING...\n"
+            "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
+            "                       RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
             "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
             "(x right, y down, z forward, metres). Defaults: --points 400 --iterations 6\n"
-            "--fit-vertices 1500 --out-vertices 6000; --frames: all.\n");
+            "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 0 (no\n"
+            "constant-velocity prediction); --frames: all.\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)

@@ -269,6 +269,11 @@ static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, 
             add_row(&vj, g, -(c[2] - (z - SOLVE_FRONT_SLACK_M)), w0, A, b);
             continue;
         }
+        /* Free space is violated only where the camera sees past the vertex: a nearer reading
+         * there (an occluder) or none at all says nothing about it (Ganapathi et al. 2012). */
+        float zo = sg->depth_m[i];
+        if (!(zo > c[2] + SOLVE_FRONT_SLACK_M))
+            continue;
         /* Outside the transformed box the nearest person pixel is the box edge's. */
         int cx = gx < pb->roi[0] ? pb->roi[0] : (gx > pb->roi[2] ? pb->roi[2] : gx);
         int cy = gy < pb->roi[1] ? pb->roi[1] : (gy > pb->roi[3] ? pb->roi[3] : gy);
