@@ -366,8 +366,8 @@ static void usage(FILE *f)
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
             "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
             "(x right, y down, z forward, metres). Defaults: --points 400 --iterations 6\n"
-            "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 0 (no\n"
-            "constant-velocity prediction); --frames: all.\n");
+            "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
+            "frame's motion carried on; 0: none); --frames: all.\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -405,6 +405,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             char *end;
             o->td.predict = strtof(v, &end);
             bad = *end || !(o->td.predict >= 0.0f && o->td.predict <= 2.0f);
+            if (o->td.predict == 0.0f)
+                o->td.predict = -1.0f; /* none */
         } else if (!strcmp(a, "--frames"))
             bad = parse_int(v, 1, 1000000, &o->max_frames);
         else {

@@ -92,7 +92,7 @@ typedef struct fit_tracker_desc {
     int init_iterations; /* 0 = 40: from the rest pose when someone enters */
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
     float temporal;      /* 0 = the default (2e-4): weight of the temporal prior */
-    float predict;       /* 0 = the default (0.5): share of the last motion carried on; < 0 none */
+    float predict;       /* 0 = the default (1): share of the last motion carried on; < 0 none */
     int fixed_shape;     /* 1 = use shape as given, never estimate it */
     fit_shape shape;     /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;

@@ -20,6 +20,9 @@
 /* The silhouette's distance transform covers the person's box and this many grid pixels around
  * it (20 px at stride 2 is 17 cm at 2.5 m: farther model vertices are pulled from the box edge). */
 #define TRACK_SILHOUETTE_MARGIN_PX 20
+/* Share of the last frame's motion carried into the next frame's start: the whole of it measured
+ * best (fast swing 18.3 -> 9.5 mm, walk 3.4 -> 2.9, still 2.9 -> 3.1; docs/bodyfit.md). */
+#define TRACK_PREDICT 1.0f
 /* Temporal prior weight (per m^2 or rad^2 against the data term's mean squared residual). */
 #define TRACK_TEMPORAL 2e-4f
 /* The pelvis joint stands this far behind the visible front surface (half a body depth). */
@@ -88,7 +91,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
-    x->predict = x->predict > 0.0f ? x->predict : 0.0f;
+    x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);
     if (!t->seg || track_models(t, &s0, err, errlen)) {

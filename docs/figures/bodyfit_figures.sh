@@ -3,13 +3,13 @@
 # runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
 # $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
-#        fails; all by default; a section left out keeps its data from an earlier run)
+#        fails tradeoffs; all by default; a section left out keeps its data from an earlier run)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
 B=${1:-build}
 [ $# -gt 0 ] && shift
-SECTIONS=${*:-headline sweep fails}
+SECTIONS=${*:-headline sweep fails tradeoffs}
 want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/bodyfit/tryon-bench-fit
 SYNTH=$B/recordings/tryon-synth
@@ -64,6 +64,20 @@ if want fails; then
       "$(rec occlusion 0 120)" > "$OUT/fails.txt"
 fi
 
+# 4. the temporal prior's weight and the constant-velocity start, on still, fast swing, walk
+if want tradeoffs; then
+  TRADE_RECS="$(rec still 0) $(rec fast_swing 1) $(rec walk 0)"
+  : > "$OUT/tradeoffs.txt"
+  for w in 0.0002 0.01 0.05; do
+    echo "== --temporal $w" >> "$OUT/tradeoffs.txt"
+    "$BENCH" --temporal $w $TRADE_RECS >> "$OUT/tradeoffs.txt"
+  done
+  for g in 0 0.5 1; do
+    echo "== --predict $g" >> "$OUT/tradeoffs.txt"
+    "$BENCH" --predict $g $TRADE_RECS >> "$OUT/tradeoffs.txt"
+  done
+fi
+
 # Charts: error against CPU time, one line per swept setting, points labelled.
 col() { # FILE KEY: the key's values, one a line
   sed -n "s/.*\"$2\":\([-0-9.]*\).*/\1/p" "$1"
@@ -80,7 +94,7 @@ if command -v gnuplot >/dev/null && [ -s "$OUT/points.jsonl" ]; then
   table "$OUT/fitverts.jsonl" fit_verts > "$OUT/fitverts.dat"
   for f in points iterations fitverts; do
     gnuplot <<GP
-set terminal png size 800,500
+set terminal png size 800,500 noenhanced
 set output "$FIG/bodyfit_$f.png"
 set title "tryon-bench-fit: $f (walk, fast_swing, turn; 45 frames each)"
 set xlabel "CPU ms per frame (median, thread CPU time)"
