@@ -100,6 +100,7 @@ set title "tryon-bench-fit: $f (walk, fast_swing, turn; 45 frames each)"
 set xlabel "CPU ms per frame (median, thread CPU time)"
 set ylabel "mean surface error (mm)"
 set grid
+set key bottom right
 plot "$OUT/$f.dat" using 1:2 with linespoints title "$f", \
      "" using 1:2:3 with labels offset 1,1 notitle
 GP
