@@ -16,7 +16,7 @@
 typedef struct bench_opts {
     fit_tracker_desc td;
     const char *out_dir;
-    int max_frames;
+    int max_frames, multi; /* multi: several recordings, each --out in its own folder */
 } bench_opts;
 
 typedef struct totals {
@@ -247,10 +247,23 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     float *tn = malloc(((size_t)ntv + 1) * 3 * sizeof(float));
     float *fn = malloc((size_t)60000 * 3 * sizeof(float));
     FILE *jl = NULL;
+    /* One recording: its frames in DIR; several: each in DIR/<recording name>. */
+    char out_dir[1100] = "";
     if (o->out_dir) {
+        const char *base = dir + strlen(dir);
+        while (base > dir && base[-1] == '/')
+            --base;
+        const char *nm = base;
+        while (nm > dir && nm[-1] != '/')
+            --nm;
         mkdir(o->out_dir, 0777);
-        char p[1100];
-        snprintf(p, sizeof p, "%s/joints.jsonl", o->out_dir);
+        if (o->multi)
+            snprintf(out_dir, sizeof out_dir, "%s/%.*s", o->out_dir, (int)(base - nm), nm);
+        else
+            snprintf(out_dir, sizeof out_dir, "%s", o->out_dir);
+        mkdir(out_dir, 0777);
+        char p[1200];
+        snprintf(p, sizeof p, "%s/joints.jsonl", out_dir);
         jl = fopen(p, "w");
     }
     int rc = 0;
@@ -296,8 +309,8 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         push(&tot->cpu, &tot->ncpu, &tot->cap_cpu, clock_ms(CLOCK_THREAD_CPUTIME_ID) - c0);
         push(&ms, &nms, &cap, dt);
         push(&tot->ms, &tot->nms, &tot->cap, dt);
-        if (jl && r.vertices && write_out(o->out_dir, k, &r, v.camera_to_world, jl))
-            fprintf(stderr, "tryon-bench-fit: %s: frame %d not written\n", o->out_dir, k);
+        if (jl && r.vertices && write_out(out_dir, k, &r, v.camera_to_world, jl))
+            fprintf(stderr, "tryon-bench-fit: %s: frame %d not written\n", out_dir, k);
         if (jl && !r.vertices)
             fprintf(jl, "{\"frame\": %d, \"state\": %d, \"joints\": {}}\n", k, r.state);
         int view = gt ? in_view(&gt[k]) : 1;
@@ -365,7 +378,8 @@ static void usage(FILE *f)
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
             "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
-            "(x right, y down, z forward, metres). Defaults: --points 400 --iterations 6\n"
+            "(x right, y down, z forward, metres); with several recordings, in DIR/NAME/ each.\n"
+            "Defaults: --points 400 --iterations 6\n"
             "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
             "frame's motion carried on; 0: none); --frames: all.\n");
 }
@@ -438,6 +452,7 @@ int main(int argc, char **argv)
     printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s\n", "recording", "motion", "shape",
            "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter", "track%", "recov");
     totals tot = {0};
+    o.multi = argc - first > 1;
     int failed = 0;
     for (int i = first; i < argc; ++i)
         failed += bench_recording(argv[i], &o, &tot) != 0;
