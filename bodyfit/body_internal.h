@@ -105,6 +105,13 @@ struct fit_model {
     fit_measurements meas;
 };
 
+/* Rodrigues' formula (skin.c): the rotation matrix (row-major) of an axis-angle vector. */
+void body_axis_angle_matrix(const float r[3], double m[9]);
+/* Per joint, the skinning matrix [R | x - R J] (3x4 row-major: R the world rotation, x the world
+ * centre, J the rest centre) and, if joints_out is set, the world centres (skin.c). */
+void body_joint_transforms(const body_skeleton *sk, const fit_pose *pose, float skin[][12],
+                           float *joints_out);
+
 /* Small vector helpers. */
 static inline float body_dot(const float a[3], const float b[3])
 {

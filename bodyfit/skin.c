@@ -4,7 +4,7 @@
 #include <math.h>
 
 /* Rodrigues' formula, in double so chains of joints stay well inside float precision. */
-static void axis_angle_matrix(const float r[3], double m[9])
+void body_axis_angle_matrix(const float r[3], double m[9])
 {
     double x = r[0], y = r[1], z = r[2];
     double th = sqrt(x * x + y * y + z * z);
@@ -41,13 +41,13 @@ static int pose_finite(const fit_pose *p)
 }
 
 /* World rotation and position of every joint (the list orders parents before children). */
-static void joint_transforms(const body_skeleton *sk, const fit_pose *pose, float skin[][12],
-                             float *joints_out)
+void body_joint_transforms(const body_skeleton *sk, const fit_pose *pose, float skin[][12],
+                           float *joints_out)
 {
     double rot[FIT_JOINT_COUNT][9], pos[FIT_JOINT_COUNT][3];
     for (int j = 0; j < FIT_JOINT_COUNT; ++j) {
         double local[9];
-        axis_angle_matrix(pose->rot[j], local);
+        body_axis_angle_matrix(pose->rot[j], local);
         int p = fit_joint_parent((fit_joint)j);
         const float *J = sk->joint[j];
         if (p < 0) {
@@ -84,7 +84,7 @@ int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out
     if (!pose_finite(pose))
         return FIT_ERR_NAN;
     float skin[FIT_JOINT_COUNT][12];
-    joint_transforms(&m->sk, pose, skin, joints_out);
+    body_joint_transforms(&m->sk, pose, skin, joints_out);
     const float *rest = m->mesh.v, *wt = m->weight;
     const uint8_t *wj = m->wjoint;
     for (int i = 0, n = m->mesh.nv; i < n; ++i) {

@@ -6,7 +6,9 @@
 # Environment: TRYON_DEMO_MOTION (walk), TRYON_DEMO_FRAMES (90), TRYON_DEMO_BACKEND (c: faster
 # than PoCL's CPU OpenCL on a machine without a GPU; opencl where one is), TRYON_DEMO_BODY_VERTS
 # (6000: the body detail the camera supports, docs/sim.md "Body detail and the shape error"),
-# TRYON_DEMO_RETRY_BUDGET (tryon-sim --retry-budget, ms; 0 = none, the default), TRYON_LCM_URL.
+# TRYON_DEMO_RETRY_BUDGET (tryon-sim --retry-budget, ms; 0 = none, the default), TRYON_DEMO_BODY
+# (fit: tryon-bodyfit fits the depth frames, the default; truth: tryon-truth publishes the
+# recording's true body, the reference), TRYON_LCM_URL.
 set -euo pipefail
 build=${1:-build}
 cd "$(dirname "$0")/.."
@@ -16,6 +18,7 @@ frames=${TRYON_DEMO_FRAMES:-90}
 backend=${TRYON_DEMO_BACKEND:-c}
 body_verts=${TRYON_DEMO_BODY_VERTS:-6000}
 retry_budget=${TRYON_DEMO_RETRY_BUDGET:-0}
+body_stage=${TRYON_DEMO_BODY:-fit}
 
 echo "== bus: a full-size depth frame over LCM"
 "$(bin tryon-bus-check)"
@@ -26,9 +29,11 @@ for exe in tryon-synth tryon-capture tryon-truth tryon-sim tryon-profile tryon-b
     [ -n "$(bin "$exe")" ] || missing+=("$exe")
 done
 if [ ${#missing[@]} -gt 0 ]; then
-    echo "== not built yet (later issues): ${missing[*]}"
+    echo "== not built: ${missing[*]}"
 fi
-for exe in tryon-synth tryon-capture tryon-truth tryon-sim tryon-profile; do
+body_exe=tryon-bodyfit
+[ "$body_stage" = truth ] && body_exe=tryon-truth
+for exe in tryon-synth tryon-capture "$body_exe" tryon-sim tryon-profile; do
     if [ -z "$(bin "$exe")" ]; then
         echo "== $exe is missing: the pipeline demo needs it" >&2
         exit 1
@@ -68,14 +73,22 @@ pids+=($!)
     >"$out/sim.txt" 2>&1 &
 pids+=($!)
 sim=$!
-"$(bin tryon-truth)" --recording "$rec" --frames "$frames" >"$out/truth.txt" 2>&1 &
+if [ "$body_stage" = truth ]; then
+    "$(bin tryon-truth)" --recording "$rec" --frames "$frames" >"$out/body.txt" 2>&1 &
+    ready="frames of ground truth"
+    body_words="tryon-truth (the recording's true body, the reference)"
+else
+    "$(bin tryon-bodyfit)" --frames "$frames" --vertices "$body_verts" >"$out/body.txt" 2>&1 &
+    ready="listening on"
+    body_words="tryon-bodyfit (the body fitted to each depth frame)"
+fi
 pids+=($!)
 wait_line "$out/sim.txt" "waiting for"
-wait_line "$out/truth.txt" "frames of ground truth"
+wait_line "$out/body.txt" "$ready"
 sleep 0.5 # lcm-logger has no ready line
 
-echo "== pipeline: tryon-capture (fakenect replay, 30 fps) -> tryon-truth (ground-truth body in"
-echo "   place of tryon-bodyfit, not built yet) -> tryon-sim ($backend backend); log: $log"
+echo "== pipeline: tryon-capture (fakenect replay, 30 fps) -> $body_words"
+echo "   -> tryon-sim ($backend backend); log: $log"
 "$(bin tryon-capture)" --source freenect --uri "$rec" --rate realtime --frames "$frames" --quiet
 status=0
 for _ in $(seq 600); do kill -0 "$sim" 2>/dev/null || break; sleep 0.1; done
@@ -87,7 +100,7 @@ sleep 0.3
 for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
 wait || true
 pids=()
-sed 's/^/   /' "$out/truth.txt" "$out/sim.txt"
+sed 's/^/   /' "$out/body.txt" "$out/sim.txt"
 
 echo "== per-stage latency (tryon-profile --log $log):"
 "$(bin tryon-profile)" --log "$log"
@@ -99,7 +112,9 @@ if [ -n "$(bin tryon)" ] && [ -n "$(bin tryon-mirror)" ]; then
     rm -rf "$show" && mkdir -p "$show"
     headless=(--headless --out "$show" --png-every 10 --video "$show/demo.mp4")
     unset TRYON_CHANNEL_PREFIX # tryon picks its own private prefix
-    run=("$(bin tryon)" run "$rec" --body "${TRYON_DEMO_BODY:-truth}" --backend "$backend")
+    run_body=bodyfit
+    [ "$body_stage" = truth ] && run_body=truth
+    run=("$(bin tryon)" run "$rec" --body "$run_body" --backend "$backend")
     if [ -n "${DISPLAY:-}" ] && echo "== tryon run: the mirror in a window" &&
         "${run[@]}"; then
         :

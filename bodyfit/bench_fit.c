@@ -1,0 +1,481 @@
+/* tryon-bench-fit: replays fakenect dumps through the recordings reader (the file reader and
+ * raw-to-millimetre table tryon-capture uses), fits every frame with the tracker tryon-bodyfit
+ * runs, and scores it against tryon-synth's ground truth where there is one. A table per
+ * recording, then one JSON line (docs/bodyfit.md). */
+#include "fit_track.h"
+#include "recordings.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+typedef struct bench_opts {
+    fit_tracker_desc td;
+    const char *out_dir;
+    int max_frames, multi; /* multi: several recordings, each --out in its own folder */
+} bench_opts;
+
+typedef struct totals {
+    double *ms, *cpu;
+    int nms, cap, ncpu, cap_cpu;
+    double surface_sum, joints_sum, jitter_sq;
+    double *surface;
+    int nsurface, cap_surface;
+    int scored, jitter_n, in_view, tracked_in_view, recover_max, recover_n;
+} totals;
+
+static double clock_ms(clockid_t c)
+{
+    struct timespec ts;
+    clock_gettime(c, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+static double now_ms(void)
+{
+    return clock_ms(CLOCK_MONOTONIC);
+}
+
+static int push(double **a, int *n, int *cap, double v)
+{
+    if (*n == *cap) {
+        int c = *cap ? 2 * *cap : 256;
+        double *p = realloc(*a, (size_t)c * sizeof *p);
+        if (!p)
+            return -1;
+        *a = p, *cap = c;
+    }
+    (*a)[(*n)++] = v;
+    return 0;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double quantile(double *v, int n, double q)
+{
+    if (n <= 0)
+        return -1.0;
+    qsort(v, (size_t)n, sizeof *v, cmp_d);
+    int i = (int)(q * (n - 1) + 0.5);
+    return v[i];
+}
+
+/* Ground truth per frame (groundtruth.txt lists gt files in frame order), or none. */
+static rec_gt *load_gt(const char *dir, int frames)
+{
+    char path[1100], line[600], depth[256], gtf[256];
+    snprintf(path, sizeof path, "%s/groundtruth.txt", dir);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return NULL;
+    rec_gt *gt = calloc((size_t)frames, sizeof *gt);
+    int n = 0;
+    while (gt && n < frames && fgets(line, sizeof line, f)) {
+        int fr;
+        double ts;
+        if (line[0] == '#' || sscanf(line, "%d %lf %255s %255s", &fr, &ts, depth, gtf) != 4)
+            continue;
+        char p2[1400];
+        snprintf(p2, sizeof p2, "%s/%s", dir, gtf);
+        rec_report why;
+        if (fr != n || rec_gt_read(p2, &gt[n], &why) != REC_OK) {
+            fprintf(stderr, "tryon-bench-fit: %s: ground truth unusable at frame %d; scoring off\n",
+                    dir, n);
+            free(gt);
+            gt = NULL;
+            break;
+        }
+        n++;
+    }
+    fclose(f);
+    if (gt && n < frames) {
+        free(gt);
+        return NULL;
+    }
+    return gt;
+}
+
+/* Every true joint inside the image and the camera's range. */
+static int in_view(const rec_gt *g)
+{
+    const float *m = g->camera_to_world;
+    for (int j = 0; j < g->num_joints; ++j) {
+        const float *p = g->joints[j];
+        float d[3] = {p[0] - m[3], p[1] - m[7], p[2] - m[11]}, c[3];
+        for (int k = 0; k < 3; ++k)
+            c[k] = m[0 * 4 + k] * d[0] + m[1 * 4 + k] * d[1] + m[2 * 4 + k] * d[2];
+        if (c[2] < REC_RANGE_MIN_M || c[2] > REC_RANGE_MAX_M)
+            return 0;
+        float u = g->fx * c[0] / c[2] + g->cx, v = g->fy * c[1] / c[2] + g->cy;
+        if (u < 0 || v < 0 || u >= (float)g->width || v >= (float)g->height)
+            return 0;
+    }
+    return 1;
+}
+
+static void to_camera(const float m[16], const float *p, float c[3])
+{
+    float d[3] = {p[0] - m[3], p[1] - m[7], p[2] - m[11]};
+    for (int k = 0; k < 3; ++k)
+        c[k] = m[0 * 4 + k] * d[0] + m[1 * 4 + k] * d[1] + m[2 * 4 + k] * d[2];
+}
+
+/* fit_%05d.obj and a joints.jsonl line, in camera coordinates. */
+static int write_out(const char *dir, int k, const fit_result *r, const float m[16], FILE *jl)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/fit_%05d.obj", dir, k);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    fprintf(
+        f, "# tryon-bench-fit frame %d, depth camera coordinates (x right, y down, z forward, m)\n",
+        k);
+    for (int i = 0; i < r->vertex_count; ++i) {
+        float c[3];
+        to_camera(m, r->vertices + (size_t)i * 3, c);
+        fprintf(f, "v %.5f %.5f %.5f\n", c[0], c[1], c[2]);
+    }
+    for (int i = 0; i < r->triangle_count; ++i)
+        fprintf(f, "f %d %d %d\n", r->triangles[i * 3] + 1, r->triangles[i * 3 + 1] + 1,
+                r->triangles[i * 3 + 2] + 1);
+    int bad = fclose(f) != 0;
+    fprintf(jl, "{\"frame\": %d, \"state\": %d, \"joints\": {", k, r->state);
+    for (int j = 0; j < FIT_JOINT_COUNT && r->vertices; ++j) {
+        float c[3];
+        to_camera(m, r->joints + j * 3, c);
+        fprintf(jl, "%s\"%s\": [%.5f, %.5f, %.5f]", j ? ", " : "", fit_joint_name((fit_joint)j),
+                c[0], c[1], c[2]);
+    }
+    fprintf(jl, "}}\n");
+    return bad ? -1 : 0;
+}
+
+typedef struct rec_scores {
+    double surface, joints, jitter_sq;
+    int scored, jitter_n, in_view, tracked, recover;
+} rec_scores;
+
+/* Scores one fitted frame against its truth. */
+static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gprev,
+                        const float *prev_joints, fit_model *truth, float *tv, float *tn, float *fn,
+                        rec_scores *s, totals *tot)
+{
+    fit_pose pose;
+    memcpy(pose.root, g->pose, sizeof pose.root);
+    memcpy(pose.rot, g->pose + 3, sizeof pose.rot);
+    float tj[FIT_JOINT_COUNT * 3];
+    fit_model_pose(truth, &pose, tv, tj);
+    int ntv = fit_model_vertex_count(truth);
+    if (fit_model_normals(truth, tv, tn))
+        return;
+    /* Normals of the fitted mesh: area-weighted, as fit_model_normals does. */
+    memset(fn, 0, (size_t)r->vertex_count * 3 * sizeof(float));
+    for (int t = 0; t < r->triangle_count; ++t) {
+        const int32_t *tr = r->triangles + (size_t)t * 3;
+        const float *a = r->vertices + (size_t)tr[0] * 3, *b = r->vertices + (size_t)tr[1] * 3,
+                    *c = r->vertices + (size_t)tr[2] * 3;
+        float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+              w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        float n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                      u[0] * w[1] - u[1] * w[0]};
+        for (int k = 0; k < 3; ++k)
+            for (int e = 0; e < 3; ++e)
+                fn[(size_t)tr[k] * 3 + e] += n[e];
+    }
+    for (int i = 0; i < r->vertex_count; ++i) {
+        float *n = fn + (size_t)i * 3, l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; ++k)
+            n[k] = l > 0.0f ? n[k] / l : 0.0f;
+    }
+    double d = 0.5 * (fit_mean_surface_distance(r->vertices, r->vertex_count, tv, tn, ntv) +
+                      fit_mean_surface_distance(tv, ntv, r->vertices, fn, r->vertex_count));
+    double je = 0.0;
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j) {
+        float e[3] = {r->joints[j * 3] - tj[j * 3], r->joints[j * 3 + 1] - tj[j * 3 + 1],
+                      r->joints[j * 3 + 2] - tj[j * 3 + 2]};
+        je += sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    }
+    je /= FIT_JOINT_COUNT;
+    s->surface += d, s->joints += je, s->scored++;
+    tot->surface_sum += d, tot->joints_sum += je, tot->scored++;
+    push(&tot->surface, &tot->nsurface, &tot->cap_surface, d);
+    if (gprev && prev_joints) {
+        for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+            for (int k = 0; k < 3; ++k) {
+                double e = (r->joints[j * 3 + k] - prev_joints[j * 3 + k]) -
+                           (g->joints[j][k] - gprev->joints[j][k]);
+                s->jitter_sq += e * e / FIT_JOINT_COUNT;
+                tot->jitter_sq += e * e / FIT_JOINT_COUNT;
+            }
+        s->jitter_n++, tot->jitter_n++;
+    }
+}
+
+static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
+{
+    rec_index idx;
+    rec_report why;
+    if (rec_index_read(dir, &idx, &why) != REC_OK) {
+        fprintf(stderr, "tryon-bench-fit: %s\n", why.message);
+        rec_index_free(&idx);
+        return -1;
+    }
+    int frames = o->max_frames > 0 && o->max_frames < idx.count ? o->max_frames : idx.count;
+    rec_gt *gt = load_gt(dir, frames);
+    fit_tracker_desc td = o->td;
+    char err[512];
+    fit_tracker *tr = fit_tracker_create(&td, err, sizeof err);
+    fit_model *truth = NULL;
+    if (gt) {
+        fit_model_desc md = {.shape = fit_shape_from_array(gt[0].shape),
+                             .target_vertices = gt[0].target_vertices};
+        truth = fit_model_create(&md, err, sizeof err);
+    }
+    uint16_t *raw = malloc(REC_WIDTH * REC_HEIGHT * sizeof *raw);
+    uint16_t *mm = malloc(REC_WIDTH * REC_HEIGHT * sizeof *mm);
+    int ntv = truth ? fit_model_vertex_count(truth) : 0;
+    float *tv = malloc(((size_t)ntv + 1) * 3 * sizeof(float));
+    float *tn = malloc(((size_t)ntv + 1) * 3 * sizeof(float));
+    float *fn = malloc((size_t)60000 * 3 * sizeof(float));
+    FILE *jl = NULL;
+    /* One recording: its frames in DIR; several: each in DIR/<recording name>. */
+    char out_dir[1100] = "";
+    if (o->out_dir) {
+        const char *base = dir + strlen(dir);
+        while (base > dir && base[-1] == '/')
+            --base;
+        const char *nm = base;
+        while (nm > dir && nm[-1] != '/')
+            --nm;
+        mkdir(o->out_dir, 0777);
+        if (o->multi)
+            snprintf(out_dir, sizeof out_dir, "%s/%.*s", o->out_dir, (int)(base - nm), nm);
+        else
+            snprintf(out_dir, sizeof out_dir, "%s", o->out_dir);
+        mkdir(out_dir, 0777);
+        char p[1200];
+        snprintf(p, sizeof p, "%s/joints.jsonl", out_dir);
+        jl = fopen(p, "w");
+    }
+    int rc = 0;
+    if (!tr || !raw || !mm || !tv || !tn || !fn || (gt && !truth) || (o->out_dir && !jl)) {
+        fprintf(stderr, "tryon-bench-fit: %s: cannot start: %s\n", dir,
+                !tr || (gt && !truth) ? err : "out of memory or --out not writable");
+        rc = -1;
+        goto done;
+    }
+    uint16_t table[REC_RAW_LEVELS];
+    rec_raw_to_mm_table(table);
+    double *ms = NULL;
+    int nms = 0, cap = 0, entered = -1;
+    rec_scores s = {0};
+    s.recover = -1;
+    float prev_joints[FIT_JOINT_COUNT * 3];
+    int have_prev = 0;
+    for (int k = 0; k < frames; ++k) {
+        if (rec_frame_read(dir, &idx.frames[k], k, raw, &why) != REC_OK) {
+            fprintf(stderr, "tryon-bench-fit: %s; frame skipped\n", why.message);
+            have_prev = 0;
+            continue;
+        }
+        for (int i = 0; i < REC_WIDTH * REC_HEIGHT; ++i)
+            mm[i] = table[raw[i] < REC_RAW_LEVELS ? raw[i] : REC_RAW_NONE];
+        fit_depth_view v = {.width = REC_WIDTH,
+                            .height = REC_HEIGHT,
+                            .fx = (float)REC_FX,
+                            .fy = (float)REC_FY,
+                            .cx = (float)REC_CX,
+                            .cy = (float)REC_CY,
+                            .metres_per_unit = 0.001f,
+                            .depth = mm};
+        if (gt)
+            memcpy(v.camera_to_world, gt[k].camera_to_world, sizeof v.camera_to_world);
+        else
+            rec_camera_to_world(v.camera_to_world);
+        fit_result r;
+        /* Wall time, and this thread's CPU time (what a loaded machine does not inflate). */
+        double t0 = now_ms(), c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID);
+        fit_tracker_frame(tr, &v, &r);
+        double dt = now_ms() - t0;
+        push(&tot->cpu, &tot->ncpu, &tot->cap_cpu, clock_ms(CLOCK_THREAD_CPUTIME_ID) - c0);
+        push(&ms, &nms, &cap, dt);
+        push(&tot->ms, &tot->nms, &tot->cap, dt);
+        if (jl && r.vertices && write_out(out_dir, k, &r, v.camera_to_world, jl))
+            fprintf(stderr, "tryon-bench-fit: %s: frame %d not written\n", out_dir, k);
+        if (jl && !r.vertices)
+            fprintf(jl, "{\"frame\": %d, \"state\": %d, \"joints\": {}}\n", k, r.state);
+        int view = gt ? in_view(&gt[k]) : 1;
+        if (view && entered < 0)
+            entered = k;
+        if (view) {
+            s.in_view++;
+            s.tracked += r.state != FIT_STATE_LOST;
+        }
+        if (entered >= 0 && s.recover < 0 && r.state != FIT_STATE_LOST)
+            s.recover = k - entered;
+        if (gt && r.vertices)
+            score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
+                        have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot);
+        have_prev = r.vertices != NULL;
+        if (have_prev)
+            memcpy(prev_joints, r.joints, sizeof prev_joints);
+    }
+    tot->in_view += s.in_view, tot->tracked_in_view += s.tracked;
+    if (s.recover >= 0) {
+        tot->recover_max = s.recover > tot->recover_max ? s.recover : tot->recover_max;
+        tot->recover_n++;
+    }
+    const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
+    double med = quantile(ms, nms, 0.5), p95 = quantile(ms, nms, 0.95);
+    if (gt)
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d\n", name,
+               gt[0].motion, fit_shape_preset_name(gt[0].shape_preset), frames, med, p95,
+               s.scored ? 1000.0 * s.surface / s.scored : -1.0,
+               s.scored ? 1000.0 * s.joints / s.scored : -1.0,
+               s.jitter_n ? 1000.0 * sqrt(s.jitter_sq / s.jitter_n) : -1.0,
+               s.in_view ? 100.0 * s.tracked / s.in_view : -1.0, s.recover);
+    else
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8s %8s %8s %7s %5s\n", name, "-", "-", frames,
+               med, p95, "-1", "-1", "-1", "-1", "-1");
+    free(ms);
+done:
+    if (jl)
+        fclose(jl);
+    free(raw), free(mm), free(tv), free(tn), free(fn), free(gt);
+    fit_model_destroy(truth);
+    fit_tracker_destroy(tr);
+    rec_index_free(&idx);
+    return rc;
+}
+
+static int parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || !*s || *end || v < lo || v > hi)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
+            "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
+            "                       RECORDING...\n"
+            "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
+            "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
+            "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
+            "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
+            "(x right, y down, z forward, metres); with several recordings, in DIR/NAME/ each.\n"
+            "Defaults: --points 400 --iterations 6\n"
+            "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
+            "frame's motion carried on; 0: none); --frames: all.\n");
+}
+
+static int parse_args(int argc, char **argv, bench_opts *o, int *first)
+{
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-'; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int bad = 0;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            exit(0);
+        } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
+                   strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
+                   strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict")) {
+            fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
+            usage(stderr);
+            return -1;
+        } else if (!v)
+            bad = 1;
+        else if (!strcmp(a, "--out"))
+            o->out_dir = v;
+        else if (!strcmp(a, "--points"))
+            bad = parse_int(v, 20, 100000, &o->td.points);
+        else if (!strcmp(a, "--iterations"))
+            bad = parse_int(v, 1, 200, &o->td.iterations);
+        else if (!strcmp(a, "--fit-vertices"))
+            bad = parse_int(v, 1000, 60000, &o->td.fit_vertices);
+        else if (!strcmp(a, "--out-vertices"))
+            bad = parse_int(v, 1000, 60000, &o->td.out_vertices);
+        else if (!strcmp(a, "--temporal")) {
+            char *end;
+            o->td.temporal = strtof(v, &end);
+            bad = *end || !(o->td.temporal > 0.0f && o->td.temporal < 1e3f);
+        } else if (!strcmp(a, "--predict")) {
+            char *end;
+            o->td.predict = strtof(v, &end);
+            bad = *end || !(o->td.predict >= 0.0f && o->td.predict <= 2.0f);
+            if (o->td.predict == 0.0f)
+                o->td.predict = -1.0f; /* none */
+        } else if (!strcmp(a, "--frames"))
+            bad = parse_int(v, 1, 1000000, &o->max_frames);
+        else {
+            fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
+            usage(stderr);
+            return -1;
+        }
+        if (bad) {
+            fprintf(stderr, "tryon-bench-fit: %s needs a value in range, got '%s'\n", a,
+                    v ? v : "(nothing)");
+            return -1;
+        }
+        ++i;
+    }
+    *first = i;
+    if (i >= argc) {
+        usage(stderr);
+        return -1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    bench_opts o = {0};
+    int first;
+    if (parse_args(argc, argv, &o, &first))
+        return 2;
+    printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s\n", "recording", "motion", "shape",
+           "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter", "track%", "recov");
+    totals tot = {0};
+    o.multi = argc - first > 1;
+    int failed = 0;
+    for (int i = first; i < argc; ++i)
+        failed += bench_recording(argv[i], &o, &tot) != 0;
+    fit_tracker_desc d = o.td;
+    int scored = tot.scored > 0;
+    printf("{\"bench\":\"fit\",\"ms_median\":%.3f,\"ms_p95\":%.3f,\"cpu_ms_median\":%.3f,"
+           "\"cpu_ms_p95\":%.3f,\"surface_mm\":%.2f,"
+           "\"surface_mm_p95\":%.2f,\"joints_mm\":%.2f,\"jitter_mm\":%.2f,"
+           "\"tracked_fraction\":%.4f,\"frames_to_recover\":%d,\"verts\":%d,\"iterations\":%d,"
+           "\"points\":%d,\"fit_verts\":%d,\"frames\":%d,\"recordings_failed\":%d,"
+           "\"backend\":\"c\",\"device\":\"cpu-1-core\"}\n",
+           quantile(tot.ms, tot.nms, 0.5), quantile(tot.ms, tot.nms, 0.95),
+           quantile(tot.cpu, tot.ncpu, 0.5), quantile(tot.cpu, tot.ncpu, 0.95),
+           scored ? 1000.0 * tot.surface_sum / tot.scored : -1.0,
+           scored ? 1000.0 * quantile(tot.surface, tot.nsurface, 0.95) : -1.0,
+           scored ? 1000.0 * tot.joints_sum / tot.scored : -1.0,
+           tot.jitter_n ? 1000.0 * sqrt(tot.jitter_sq / tot.jitter_n) : -1.0,
+           scored && tot.in_view ? (double)tot.tracked_in_view / tot.in_view : -1.0,
+           scored && tot.recover_n ? tot.recover_max : -1, d.out_vertices ? d.out_vertices : 6000,
+           d.iterations ? d.iterations : 6, d.points ? d.points : 400,
+           d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed);
+    free(tot.ms);
+    free(tot.cpu);
+    free(tot.surface);
+    return failed ? 1 : 0;
+}

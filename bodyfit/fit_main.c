@@ -1,0 +1,256 @@
+/* tryon-bodyfit: DEPTH -> BODY. Fits the body model to every depth frame it gets to (when it
+ * falls behind, the newest frame wins and the skipped ones are counted), publishes BODY and a
+ * TIMING with the sub-stages segment, fit and skin. A frame it cannot use gets a message on
+ * stderr naming the frame and the reason, a BODY in state lost with no vertices, and the
+ * process goes on. */
+#include "bus.h"
+#include "fit_track.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FITP_TRIANGLES_EVERY 30 /* frames between resends of the triangle list (1 s at 30 fps) */
+#define FITP_MESSAGES_MAX    20 /* bad-frame messages printed before only counting them */
+
+typedef struct fitp {
+    lcm_t *lcm;
+    char body_channel[BUS_CHANNEL_MAX];
+    fit_tracker *tracker;
+    tryon_depth_frame_t pending; /* the newest frame not yet fitted (data owned here) */
+    uint8_t *data;
+    size_t data_cap;
+    int have_pending;
+    int64_t pending_received;
+    int triangles_every, max_frames, queue_all;
+    long published, skipped, bad, last_triangles_seq, last_topology;
+} fitp;
+
+static volatile sig_atomic_t stop;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop = 1;
+}
+
+/* Keeps a copy of the newest frame; one not yet fitted is replaced and counted as skipped. */
+static void on_depth(const char *channel, const void *msg, void *user)
+{
+    (void)channel;
+    fitp *p = user;
+    const tryon_depth_frame_t *f = msg;
+    if ((size_t)f->num_bytes > p->data_cap) {
+        uint8_t *d = realloc(p->data, (size_t)f->num_bytes);
+        if (!d) {
+            fprintf(stderr, "tryon-bodyfit: frame %d: out of memory; skipped\n", f->seq);
+            return;
+        }
+        p->data = d;
+        p->data_cap = (size_t)f->num_bytes;
+    }
+    p->skipped += p->have_pending;
+    p->pending = *f;
+    memcpy(p->data, f->data, (size_t)f->num_bytes);
+    p->pending.data = p->data;
+    p->pending.source = NULL;
+    p->have_pending = 1;
+    p->pending_received = bus_now_wall_us();
+}
+
+static void fit_pending(fitp *p);
+
+/* --queue all: every frame is fitted as it arrives (tests, offline replays). */
+static void on_depth_all(const char *channel, const void *msg, void *user)
+{
+    on_depth(channel, msg, user);
+    fit_pending(user);
+}
+
+static void publish(fitp *p, const tryon_depth_frame_t *f, const fit_result *r, bus_timing *timing)
+{
+    float shape[FIT_SHAPE_PARAMS];
+    fit_shape_to_array(&r->shape, shape);
+    int send_tris =
+        r->vertices &&
+        (p->last_triangles_seq < 0 || r->topology_id != p->last_topology ||
+         f->seq - p->last_triangles_seq >= p->triangles_every || f->seq < p->last_triangles_seq);
+    tryon_body_t msg = {
+        .utime_capture = f->utime_capture,
+        .seq = f->seq,
+        .state = (int8_t)r->state,
+        .fit_residual_mm = r->residual_mm,
+        .num_shape = FIT_SHAPE_PARAMS,
+        .shape = shape,
+        .num_pose = FIT_POSE_PARAMS,
+        .pose = (float *)&r->pose,
+        .num_joint_coords = r->vertices ? FIT_JOINT_COUNT * 3 : 0,
+        .joints = (float *)r->joints,
+        .topology_id = r->topology_id,
+        .num_vertex_coords = r->vertices ? 3 * r->vertex_count : 0,
+        .vertices = (float *)r->vertices,
+        .num_triangle_indices = send_tris ? 3 * r->triangle_count : 0,
+        .triangles = (int32_t *)r->triangles,
+    };
+    bus_reject why;
+    if (bus_publish(p->lcm, p->body_channel, BUS_BODY, &msg, &why) != BUS_OK) {
+        fprintf(stderr, "tryon-bodyfit: frame %d not published: %s (%s)\n", f->seq,
+                bus_error_text(why.code), why.detail);
+        return;
+    }
+    if (send_tris) {
+        p->last_triangles_seq = f->seq;
+        p->last_topology = r->topology_id;
+    }
+    p->published++;
+    bus_timing_publish(p->lcm, timing);
+}
+
+static void fit_pending(fitp *p)
+{
+    tryon_depth_frame_t *f = &p->pending;
+    p->have_pending = 0;
+    bus_timing timing;
+    bus_timing_begin(&timing, "bodyfit", f->seq, f->utime_capture, p->pending_received);
+    fit_depth_view v = {.width = f->width,
+                        .height = f->height,
+                        .fx = f->fx,
+                        .fy = f->fy,
+                        .cx = f->cx,
+                        .cy = f->cy,
+                        .metres_per_unit = f->metres_per_unit,
+                        .depth = (const uint16_t *)f->data};
+    memcpy(v.camera_to_world, f->camera_to_world, sizeof v.camera_to_world);
+    fit_result r;
+    fit_frame_error e = fit_tracker_frame(p->tracker, &v, &r);
+    bus_timing_add(&timing, "segment", (float)r.ms_segment);
+    bus_timing_add(&timing, "fit", (float)r.ms_fit);
+    bus_timing_add(&timing, "skin", (float)r.ms_skin);
+    if (e != FIT_FRAME_OK && e != FIT_FRAME_NOBODY && p->bad++ < FITP_MESSAGES_MAX)
+        fprintf(stderr, "tryon-bodyfit: frame %d: %s; published as lost, waiting for the next\n",
+                f->seq, r.message);
+    publish(p, f, &r, &timing);
+    if (p->max_frames > 0 && p->published >= p->max_frames)
+        stop = 1;
+}
+
+static int parse_count(const char *s, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || !*s || *end || v < lo || v > hi)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: tryon-bodyfit [--frames N] [--vertices N] [--fit-vertices N] [--points N]\n"
+               "                     [--iterations N] [--triangles-every N] [--queue latest|all]\n"
+               "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
+               "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
+               "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
+               "exit after N bodies. --vertices: the published mesh (6000); --fit-vertices: the\n"
+               "coarse mesh fitted (1500); --points: data points per frame (400); --iterations:\n"
+               "Gauss-Newton iterations per frame (6).\n"
+               "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
+}
+
+static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int bad = 0;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            exit(0);
+        } else if (strcmp(a, "--frames") && strcmp(a, "--vertices") &&
+                   strcmp(a, "--fit-vertices") && strcmp(a, "--points") &&
+                   strcmp(a, "--iterations") && strcmp(a, "--triangles-every") &&
+                   strcmp(a, "--queue")) {
+            fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
+            usage(stderr);
+            return -1;
+        } else if (!v)
+            bad = 1;
+        else if (!strcmp(a, "--frames"))
+            bad = parse_count(v, 1, 1000000000, &p->max_frames);
+        else if (!strcmp(a, "--vertices"))
+            bad = parse_count(v, 1000, 60000, &d->out_vertices);
+        else if (!strcmp(a, "--fit-vertices"))
+            bad = parse_count(v, 1000, 60000, &d->fit_vertices);
+        else if (!strcmp(a, "--points"))
+            bad = parse_count(v, 20, 100000, &d->points);
+        else if (!strcmp(a, "--iterations"))
+            bad = parse_count(v, 1, 200, &d->iterations);
+        else if (!strcmp(a, "--queue")) {
+            bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0;
+            p->queue_all = !strcmp(v, "all");
+        } else if (!strcmp(a, "--triangles-every"))
+            bad = parse_count(v, 1, 1000000, &p->triangles_every);
+        else {
+            fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
+            usage(stderr);
+            return -1;
+        }
+        if (bad) {
+            fprintf(stderr, "tryon-bodyfit: %s needs a value in range, got '%s'\n", a,
+                    v ? v : "(nothing)");
+            return -1;
+        }
+        ++i;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    fitp p = {.triangles_every = FITP_TRIANGLES_EVERY, .last_triangles_seq = -1};
+    fit_tracker_desc d = {0};
+    if (parse_args(argc, argv, &p, &d))
+        return 2;
+    int rc = 1;
+    char err[512], depth_channel[BUS_CHANNEL_MAX];
+    bus_sub *sub = NULL;
+    p.tracker = fit_tracker_create(&d, err, sizeof err);
+    if (!p.tracker) {
+        fprintf(stderr, "tryon-bodyfit: %s\n", err);
+        return 1;
+    }
+    p.lcm = bus_open(NULL, err, sizeof err);
+    if (!p.lcm) {
+        fprintf(stderr, "tryon-bodyfit: %s\n", err);
+        goto done;
+    }
+    bus_channel(BUS_CHANNEL_DEPTH, depth_channel, sizeof depth_channel);
+    bus_channel(BUS_CHANNEL_BODY, p.body_channel, sizeof p.body_channel);
+    sub = bus_subscribe(p.lcm, depth_channel, BUS_DEPTH_FRAME,
+                        p.queue_all ? on_depth_all : on_depth, &p);
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    fprintf(stderr, "tryon-bodyfit: listening on %s -> %s\n", depth_channel, p.body_channel);
+    while (!stop) {
+        if (lcm_handle_timeout(p.lcm, 100) <= 0)
+            continue;
+        while (lcm_handle_timeout(p.lcm, 0) > 0)
+            ; /* drain: the newest frame wins */
+        if (p.have_pending)
+            fit_pending(&p);
+    }
+    fprintf(stderr,
+            "tryon-bodyfit: published %ld bodies, %ld frames skipped (newest wins), %ld bad "
+            "frames, %llu DEPTH messages rejected\n",
+            p.published, p.skipped, p.bad, (unsigned long long)bus_sub_stats(sub)->rejected);
+    rc = 0;
+done:
+    bus_unsubscribe(p.lcm, sub);
+    if (p.lcm)
+        lcm_destroy(p.lcm);
+    fit_tracker_destroy(p.tracker);
+    free(p.data);
+    return rc;
+}

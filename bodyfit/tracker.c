@@ -1,0 +1,325 @@
+/* The tracker: per frame, segment, fit the coarse model, skin the published mesh. States: INIT
+ * while the shape is being estimated (the first shape_frames frames of a person), TRACKING,
+ * LOST (nobody, a bad frame, or a fit that does not explain the points); after LOST the next
+ * person is initialised from the rest pose again, with no human in the loop. */
+#include "cv_shim.h"
+#include "fit_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* A fit is lost when fewer than this share of the points are explained, or worse than this. */
+#define TRACK_MIN_INLIERS 0.6f
+#define TRACK_MAX_RMS_MM  30.0f
+/* Correspondence gates: wide from the rest pose, tighter once tracking. */
+#define TRACK_GATE_INIT_M  0.25f
+#define TRACK_GATE_TRACK_M 0.12f
+/* The silhouette's distance transform covers the person's box and this many grid pixels around
+ * it (20 px at stride 2 is 17 cm at 2.5 m: farther model vertices are pulled from the box edge). */
+#define TRACK_SILHOUETTE_MARGIN_PX 20
+/* Share of the last frame's motion carried into the next frame's start: the whole of it measured
+ * best (fast swing 18.3 -> 9.5 mm, walk 3.4 -> 2.9, still 2.9 -> 3.1; docs/bodyfit.md). */
+#define TRACK_PREDICT 1.0f
+/* Temporal prior weight (per m^2 or rad^2 against the data term's mean squared residual). */
+#define TRACK_TEMPORAL 2e-4f
+/* The pelvis joint stands this far behind the visible front surface (half a body depth). */
+#define TRACK_BODY_HALF_DEPTH_M 0.10f
+
+struct fit_tracker {
+    fit_tracker_desc d;
+    fit_model *coarse, *full;
+    fit_solver *solver;
+    fit_segmenter *seg;
+    float *verts, *pts;
+    int32_t *nearest;
+    int nearest_cap;
+    fit_pose pose, prev, last; /* last: the pose fitted the frame before pose */
+    fit_shape shape;
+    fit_shape_base base_coarse, base_full;
+    float scale, offset[FIT_SHAPE_PARTS];
+    int have_pose, have_last, person_frames, topology_id;
+    double height_sum;
+    int height_n;
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+/* Builds the coarse and the published model of a shape; keeps the old ones on failure. */
+static int track_models(fit_tracker *t, const fit_shape *shape, char *err, size_t errlen)
+{
+    fit_model_desc dc = {.shape = *shape, .target_vertices = t->d.fit_vertices};
+    fit_model_desc df = {.shape = *shape, .target_vertices = t->d.out_vertices};
+    fit_model *c = fit_model_create(&dc, err, errlen);
+    fit_model *f = c ? fit_model_create(&df, err, errlen) : NULL;
+    fit_solver *s = f ? fit_solver_create(c) : NULL;
+    float *v = s ? malloc((size_t)fit_model_vertex_count(f) * 3 * sizeof(float)) : NULL;
+    if (!v) {
+        fit_model_destroy(c);
+        fit_model_destroy(f);
+        fit_solver_destroy(s);
+        return -1;
+    }
+    fit_model_destroy(t->coarse);
+    fit_model_destroy(t->full);
+    fit_solver_destroy(t->solver);
+    free(t->verts);
+    t->coarse = c, t->full = f, t->solver = s, t->verts = v;
+    t->shape = *shape;
+    t->topology_id++;
+    return 0;
+}
+
+fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t errlen)
+{
+    fit_tracker *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->d = d ? *d : (fit_tracker_desc){0};
+    fit_tracker_desc *x = &t->d;
+    x->out_vertices = x->out_vertices ? x->out_vertices : 6000;
+    x->fit_vertices = x->fit_vertices ? x->fit_vertices : 1500;
+    x->points = x->points > 0 ? x->points : 400;
+    x->iterations = x->iterations > 0 ? x->iterations : 6;
+    x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
+    x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
+    x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
+    x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
+    fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
+    t->seg = fit_segmenter_create(&x->segment, err, errlen);
+    if (!t->seg || track_models(t, &s0, err, errlen)) {
+        fit_tracker_destroy(t);
+        return NULL;
+    }
+    t->topology_id = 1;
+    t->scale = 1.0f;
+    if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
+        fit_shape_base_init(&t->base_full, t->full)) {
+        if (err)
+            snprintf(err, errlen, "fit_tracker_create: out of memory");
+        fit_tracker_destroy(t);
+        return NULL;
+    }
+    return t;
+}
+
+void fit_tracker_destroy(fit_tracker *t)
+{
+    if (!t)
+        return;
+    fit_model_destroy(t->coarse);
+    fit_model_destroy(t->full);
+    fit_solver_destroy(t->solver);
+    fit_segmenter_destroy(t->seg);
+    fit_shape_base_free(&t->base_coarse);
+    fit_shape_base_free(&t->base_full);
+    free(t->verts);
+    free(t->pts);
+    free(t->nearest);
+    free(t);
+}
+
+/* Rest pose standing on the floor where the points are, facing the camera. */
+static void track_initial_pose(fit_tracker *t, const fit_segment *sg, const fit_depth_view *v)
+{
+    const float *m = v->camera_to_world, *rest = fit_model_rest_joints(t->coarse);
+    memset(&t->pose, 0, sizeof t->pose);
+    float to_cam[2] = {m[3] - sg->centroid[0], m[11] - sg->centroid[2]};
+    float l = sqrtf(to_cam[0] * to_cam[0] + to_cam[1] * to_cam[1]);
+    float c[3] = {sg->centroid[0], 0.0f, sg->centroid[2]};
+    if (l > 1e-3f) {
+        c[0] -= TRACK_BODY_HALF_DEPTH_M * to_cam[0] / l;
+        c[2] -= TRACK_BODY_HALF_DEPTH_M * to_cam[1] / l;
+        t->pose.rot[FIT_PELVIS][1] = atan2f(to_cam[0], to_cam[1]); /* body +z to the camera */
+    }
+    t->pose.root[0] = c[0] - rest[FIT_PELVIS * 3];
+    t->pose.root[1] = -sg->floor[3] / sg->floor[1]; /* feet on the floor plane */
+    t->pose.root[2] = c[2] - rest[FIT_PELVIS * 3 + 2];
+}
+
+/* Every k-th person point, about `points` of them. */
+static int track_subsample(fit_tracker *t, const fit_segment *sg)
+{
+    int n = t->d.points < sg->count ? t->d.points : sg->count;
+    for (int i = 0; i < n; ++i) {
+        size_t src = (size_t)i * (size_t)sg->count / (size_t)n;
+        memcpy(t->pts + (size_t)i * 3, sg->points + src * 3, 3 * sizeof(float));
+    }
+    return n;
+}
+
+/* Shape: the height from the top of the person over the first shape_frames frames (unless the
+ * head reaches the top row; the feet often touch the bottom one), every length and girth scaled
+ * with it; then each part's girth from the mean signed offset of its points, fast over the first
+ * frames and slowly after (a person does not change shape between frames). The mesh keeps its
+ * topology (fit_shape_adapt.c). */
+#define TRACK_OFFSET_GAIN_INIT  0.5f
+#define TRACK_OFFSET_GAIN_AFTER 0.02f
+#define TRACK_OFFSET_MAX_M      0.04f
+#define TRACK_OFFSET_MIN_POINTS 20
+
+static void track_shape_apply(fit_tracker *t)
+{
+    fit_shape_base_apply(&t->base_coarse, t->coarse, t->scale, t->offset);
+    fit_shape_base_apply(&t->base_full, t->full, t->scale, t->offset);
+    t->shape = fit_shape_adapted(&t->base_full, t->scale, t->offset);
+}
+
+static void track_shape_reset(fit_tracker *t)
+{
+    t->scale = 1.0f;
+    t->offset[0] = t->offset[1] = t->offset[2] = 0.0f;
+    t->height_sum = 0.0;
+    t->height_n = 0;
+    if (!t->d.fixed_shape)
+        track_shape_apply(t);
+}
+
+/* Before the fit of a person's first frames: the height from the top of the points, so the
+ * frame is fitted with it (after the fit, the model would grow under a placed pose). */
+static void track_height_update(fit_tracker *t, const fit_segment *sg)
+{
+    if (t->d.fixed_shape || t->person_frames >= t->d.shape_frames || sg->touches_top)
+        return;
+    t->height_sum += sg->top_y;
+    t->height_n++;
+    float h = (float)(t->height_sum / t->height_n), lo, hi;
+    fit_shape_param_range(0, &lo, &hi);
+    h = h < lo ? lo : (h > hi ? hi : h);
+    t->scale = h / t->base_full.shape.height;
+    track_shape_apply(t);
+}
+
+static void track_shape_update(fit_tracker *t)
+{
+    int init = t->person_frames <= t->d.shape_frames;
+    double off[FIT_SHAPE_PARTS];
+    int n[FIT_SHAPE_PARTS];
+    fit_solver_part_offsets(t->solver, off, n);
+    float gain = init ? TRACK_OFFSET_GAIN_INIT : TRACK_OFFSET_GAIN_AFTER;
+    for (int k = 0; k < FIT_SHAPE_PARTS; ++k) {
+        if (n[k] < TRACK_OFFSET_MIN_POINTS)
+            continue;
+        float o = t->offset[k] + gain * (float)off[k];
+        t->offset[k] = o < -TRACK_OFFSET_MAX_M ? -TRACK_OFFSET_MAX_M
+                                               : (o > TRACK_OFFSET_MAX_M ? TRACK_OFFSET_MAX_M : o);
+    }
+    track_shape_apply(t);
+}
+
+static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *before, float g)
+{
+    for (int k = 0; k < 3; ++k)
+        out->root[k] = now->root[k] + g * (now->root[k] - before->root[k]);
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        for (int k = 0; k < 3; ++k)
+            out->rot[j][k] = now->rot[j][k] + g * (now->rot[j][k] - before->rot[j][k]);
+    fit_pose_clamp(out);
+}
+
+static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_error e,
+                                  const char *why)
+{
+    if (t->have_pose || t->person_frames)
+        track_shape_reset(t); /* the next person may be another */
+    t->have_pose = 0;
+    t->have_last = 0;
+    t->person_frames = 0;
+    out->state = FIT_STATE_LOST;
+    out->error = e;
+    if (why && why != out->message)
+        snprintf(out->message, sizeof out->message, "%s", why);
+    out->vertices = NULL;
+    out->vertex_count = 0;
+    return e;
+}
+
+fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_result *out)
+{
+    memset(out, 0, sizeof *out);
+    out->shape = t->shape;
+    out->topology_id = t->topology_id;
+    double t0 = now_ms();
+    fit_segment sg;
+    fit_frame_error e = fit_segmenter_frame(t->seg, v, &sg, out->message, sizeof out->message);
+    out->ms_segment = now_ms() - t0;
+    if (e)
+        return track_lost(t, out, e, NULL);
+    size_t cells = (size_t)sg.width * (size_t)sg.height;
+    if ((int)cells > t->nearest_cap) {
+        free(t->nearest);
+        free(t->pts);
+        t->nearest = malloc(cells * sizeof(int32_t));
+        t->pts = malloc(cells * 3 * sizeof(float));
+        t->nearest_cap = t->nearest && t->pts ? (int)cells : 0;
+        if (!t->nearest_cap)
+            return track_lost(t, out, FIT_FRAME_INTERNAL, "out of memory");
+    }
+    char err[256];
+    int roi[4];
+    if (cvs_nearest_set(sg.mask, sg.width, sg.height, TRACK_SILHOUETTE_MARGIN_PX, t->nearest, roi,
+                        err, sizeof err))
+        return track_lost(t, out, FIT_FRAME_INTERNAL, err);
+    out->ms_segment = now_ms() - t0;
+    double t1 = now_ms();
+    int fresh = !t->have_pose;
+    track_height_update(t, &sg);
+    if (fresh)
+        track_initial_pose(t, &sg, v);
+    fit_problem pb = {.points = t->pts,
+                      .count = track_subsample(t, &sg),
+                      .seg = &sg,
+                      .nearest = t->nearest,
+                      .roi = {roi[0], roi[1], roi[2], roi[3]},
+                      .view = v,
+                      .prev = fresh ? NULL : &t->pose,
+                      .iterations = fresh ? t->d.init_iterations : t->d.iterations,
+                      .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
+                      .temporal = fresh ? 0.0f : t->d.temporal};
+    /* Constant velocity: the last frame's motion, scaled by predict, starts the fit and anchors
+     * the temporal prior (a swinging arm is then not held back by where it was). */
+    t->prev = t->pose;
+    if (!fresh && t->have_last && t->d.predict > 0.0f)
+        track_predict(&t->prev, &t->pose, &t->last, t->d.predict);
+    fit_pose pose = t->prev;
+    pb.prev = fresh ? NULL : &t->prev;
+    fit_stats st;
+    int rc = fit_solve(t->solver, &pb, &pose, &st);
+    out->ms_fit = now_ms() - t1;
+    out->points_used = pb.count;
+    out->residual_mm = st.rms_mm;
+    if (rc || st.inliers < TRACK_MIN_INLIERS * (float)pb.count || st.rms_mm > TRACK_MAX_RMS_MM) {
+        snprintf(out->message, sizeof out->message,
+                 "%s: %s (%d of %d points within %.0f mm, RMS %.1f mm)",
+                 fit_frame_error_name(FIT_FRAME_FIT), fit_frame_error_text(FIT_FRAME_FIT),
+                 st.inliers, pb.count, 1000.0f * pb.max_match_m, st.rms_mm);
+        return track_lost(t, out, FIT_FRAME_FIT, NULL);
+    }
+    t->last = t->pose;
+    t->have_last = !fresh;
+    t->pose = pose;
+    t->have_pose = 1;
+    t->person_frames++;
+    if (!t->d.fixed_shape)
+        track_shape_update(t);
+    double t2 = now_ms();
+    fit_model_pose(t->full, &t->pose, t->verts, out->joints);
+    out->ms_skin = now_ms() - t2;
+    out->state = t->d.fixed_shape || t->person_frames > t->d.shape_frames ? FIT_STATE_TRACKING
+                                                                          : FIT_STATE_INIT;
+    out->pose = t->pose;
+    out->shape = t->shape;
+    out->vertices = t->verts;
+    out->vertex_count = fit_model_vertex_count(t->full);
+    out->triangles = fit_model_triangles(t->full);
+    out->triangle_count = fit_model_triangle_count(t->full);
+    out->topology_id = t->topology_id;
+    return FIT_FRAME_OK;
+}

@@ -1,0 +1,109 @@
+#!/bin/sh
+# The body-fit figures in docs/bodyfit.md: makes tryon-synth recordings (noise on, seed 1),
+# runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
+# $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
+# usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
+#        fails tradeoffs; all by default; a section left out keeps its data from an earlier run)
+# Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
+# frame, 0.6 GB for the whole set.
+set -eu
+B=${1:-build}
+[ $# -gt 0 ] && shift
+SECTIONS=${*:-headline sweep fails tradeoffs}
+want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
+BENCH=$B/bodyfit/tryon-bench-fit
+SYNTH=$B/recordings/tryon-synth
+REC=${TRYON_FIT_RECORDINGS:-$B/fit-recordings}
+OUT=$B/fit-figures
+FIG=$(dirname "$0")
+FRAMES=45
+mkdir -p "$OUT" "$REC"
+rec() { # MOTION SHAPE [FRAMES]: the recording's directory, made once
+  d="$REC/${1}_s$2_${3:-$FRAMES}"
+  [ -f "$d/INDEX.txt" ] || "$SYNTH" --out "$d" --motion "$1" --shape "$2" --noise on --seed 1 \
+      --frames "${3:-$FRAMES}" --vertices 6000 >/dev/null
+  echo "$d"
+}
+
+# 1. the headline: every motion, all three shapes, 45 frames (1.5 s) each, the defaults
+if want headline; then
+  set --
+  for m in still arm_raise turn walk fast_swing occlusion; do
+    for s in 0 1 2; do set -- "$@" "$(rec $m $s)"; done
+  done
+  "$BENCH" "$@" > "$OUT/headline.txt"
+  tail -n 1 "$OUT/headline.txt" > "$OUT/headline.jsonl"
+  # standing still alone: the jitter figure
+  "$BENCH" "$REC/still_s0_$FRAMES" "$REC/still_s1_$FRAMES" "$REC/still_s2_$FRAMES" \
+      > "$OUT/still.txt"
+  # run to run: the same run twice must print the same errors
+  "$BENCH" "$REC/walk_s0_$FRAMES" | tail -n 1 > "$OUT/determinism.jsonl"
+  "$BENCH" "$REC/walk_s0_$FRAMES" | tail -n 1 >> "$OUT/determinism.jsonl"
+fi
+
+# 2. sweeps: points used, iterations, coarse mesh resolution (walk, fast swing, turn, one shape
+#    each); x = CPU ms per frame, y = surface error
+SWEEP_RECS="$(rec walk 0) $(rec fast_swing 1) $(rec turn 2)"
+if want sweep; then
+  : > "$OUT/points.jsonl"; : > "$OUT/iterations.jsonl"; : > "$OUT/fitverts.jsonl"
+  for p in 100 200 400 800 1600; do
+    "$BENCH" --points $p $SWEEP_RECS | tail -n 1 >> "$OUT/points.jsonl"
+  done
+  for i in 2 4 6 10 16; do
+    "$BENCH" --iterations $i $SWEEP_RECS | tail -n 1 >> "$OUT/iterations.jsonl"
+  done
+  for v in 1000 1500 3000 6000; do
+    "$BENCH" --fit-vertices $v $SWEEP_RECS | tail -n 1 >> "$OUT/fitverts.jsonl"
+  done
+fi
+
+# 3. where it fails: walking in and out of the frame (enter_leave, 8 s), the side-on turn,
+#    the fast swing, the box in front (one recording each, the whole motion)
+if want fails; then
+  "$BENCH" "$(rec enter_leave 0 240)" "$(rec turn 2 180)" "$(rec fast_swing 1 48)" \
+      "$(rec occlusion 0 120)" > "$OUT/fails.txt"
+fi
+
+# 4. the temporal prior's weight and the constant-velocity start, on still, fast swing, walk
+if want tradeoffs; then
+  TRADE_RECS="$(rec still 0) $(rec fast_swing 1) $(rec walk 0)"
+  : > "$OUT/tradeoffs.txt"
+  for w in 0.0002 0.01 0.05; do
+    echo "== --temporal $w" >> "$OUT/tradeoffs.txt"
+    "$BENCH" --temporal $w $TRADE_RECS >> "$OUT/tradeoffs.txt"
+  done
+  for g in 0 0.5 1; do
+    echo "== --predict $g" >> "$OUT/tradeoffs.txt"
+    "$BENCH" --predict $g $TRADE_RECS >> "$OUT/tradeoffs.txt"
+  done
+fi
+
+# Charts: error against CPU time, one line per swept setting, points labelled.
+col() { # FILE KEY: the key's values, one a line
+  sed -n "s/.*\"$2\":\([-0-9.]*\).*/\1/p" "$1"
+}
+table() { # FILE KEY: "cpu_ms surface_mm value" lines
+  col "$1" cpu_ms_median > "$OUT/.a"
+  col "$1" surface_mm > "$OUT/.b"
+  col "$1" "$2" > "$OUT/.c"
+  paste -d' ' "$OUT/.a" "$OUT/.b" "$OUT/.c"
+}
+if command -v gnuplot >/dev/null && [ -s "$OUT/points.jsonl" ]; then
+  table "$OUT/points.jsonl" points > "$OUT/points.dat"
+  table "$OUT/iterations.jsonl" iterations > "$OUT/iterations.dat"
+  table "$OUT/fitverts.jsonl" fit_verts > "$OUT/fitverts.dat"
+  for f in points iterations fitverts; do
+    gnuplot <<GP
+set terminal png size 800,500 noenhanced
+set output "$FIG/bodyfit_$f.png"
+set title "tryon-bench-fit: $f (walk, fast_swing, turn; 45 frames each)"
+set xlabel "CPU ms per frame (median, thread CPU time)"
+set ylabel "mean surface error (mm)"
+set grid
+set key bottom right
+plot "$OUT/$f.dat" using 1:2 with linespoints title "$f", \
+     "" using 1:2:3 with labels offset 1,1 notitle
+GP
+  done
+fi
+echo "tables and JSON lines in $OUT; charts in $FIG/bodyfit_*.png"

@@ -1,0 +1,108 @@
+/* tryon-bench-fit as a user runs it: on the noise-free arm_raise sample it scores the fit (every
+ * error field present and small), writes fit_%05d.obj and joints.jsonl in camera coordinates,
+ * gives -1 error fields for a dump without ground truth, and refuses unknown options. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "support.h"
+
+static double json_field(const char *text, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = strstr(text, pat);
+    assert_non_null(p);
+    return strtod(p + strlen(pat), NULL);
+}
+
+static void test_fit_bench_scores_and_writes(void **state)
+{
+    (void)state;
+    char dir[256], out[400], log[400], path[500];
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench"), 0);
+    snprintf(out, sizeof out, "%s/out", dir);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    char *argv[] = {TRYON_BENCH_FIT_EXE, "--out", out, TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
+                    NULL};
+    pid_t pid = ts_spawn_out(argv, NULL, log);
+    assert_true(pid > 0);
+    int rc = ts_wait(pid, 100000);
+    char *text = ts_read_file(log);
+    printf("%s", text ? text : "(no output)\n");
+    assert_int_equal(rc, 0);
+    assert_non_null(text);
+    const char *json = strrchr(text, '{');
+    assert_non_null(json);
+    assert_true(json_field(json, "surface_mm") > 0.0 && json_field(json, "surface_mm") < 10.0);
+    assert_true(json_field(json, "joints_mm") > 0.0 && json_field(json, "joints_mm") < 30.0);
+    assert_true(json_field(json, "ms_median") > 0.0);
+    assert_true(json_field(json, "tracked_fraction") == 1.0);
+    assert_true(json_field(json, "frames") == 4.0);
+    free(text);
+    struct stat st;
+    for (int k = 0; k < 4; ++k) {
+        snprintf(path, sizeof path, "%s/fit_%05d.obj", out, k);
+        assert_int_equal(stat(path, &st), 0);
+        assert_true(st.st_size > 100000);
+    }
+    snprintf(path, sizeof path, "%s/joints.jsonl", out);
+    text = ts_read_file(path);
+    assert_non_null(text);
+    assert_non_null(strstr(text, "{\"frame\": 3"));
+    /* The pelvis in camera coordinates: about 2.5 m along the axis (tryon-synth's camera). */
+    const char *pel = strstr(text, "\"pelvis\": [");
+    assert_non_null(pel);
+    double x, y, z;
+    assert_int_equal(sscanf(pel + strlen("\"pelvis\": ["), "%lf, %lf, %lf", &x, &y, &z), 3);
+    assert_true(z > 2.3 && z < 2.7 && x > -0.2 && x < 0.2);
+    free(text);
+    ts_remove_dir(dir);
+}
+
+static void test_fit_bench_without_truth_and_bad_options(void **state)
+{
+    (void)state;
+    char dir[256], rec[300], log[400], cmd[1200];
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench2"), 0);
+    snprintf(rec, sizeof rec, "%s/rec", dir);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    /* A copy of the sample without its ground truth: any fakenect dump. */
+    snprintf(cmd, sizeof cmd, "cp -r '%s/still_s0' '%s' && rm -f '%s'/gt-* '%s/groundtruth.txt'",
+             TRYON_SAMPLES_DIR, rec, rec, rec);
+    assert_int_equal(system(cmd), 0);
+    char *argv[] = {TRYON_BENCH_FIT_EXE, rec, NULL};
+    pid_t pid = ts_spawn_out(argv, NULL, log);
+    assert_int_equal(ts_wait(pid, 100000), 0);
+    char *text = ts_read_file(log);
+    assert_non_null(text);
+    const char *json = strrchr(text, '{');
+    assert_non_null(json);
+    assert_true(json_field(json, "surface_mm") == -1.0);
+    assert_true(json_field(json, "joints_mm") == -1.0);
+    assert_true(json_field(json, "ms_median") > 0.0);
+    free(text);
+    char *bad[] = {TRYON_BENCH_FIT_EXE, "--no-such-option", rec, NULL};
+    pid = ts_spawn_out(bad, NULL, log);
+    assert_int_equal(ts_wait(pid, 10000), 2);
+    text = ts_read_file(log);
+    assert_non_null(strstr(text, "unknown option --no-such-option"));
+    free(text);
+    ts_remove_dir(dir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fit_bench_scores_and_writes),
+        cmocka_unit_test(test_fit_bench_without_truth_and_bad_options),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
