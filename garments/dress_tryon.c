@@ -5,7 +5,6 @@
  * every seam is closed, then draping steps and a few position-only rounds (strain limit, seams,
  * contacts) that leave the velocities alone. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -38,6 +37,13 @@
  * after the seams in each step, hold a few joints about a millimetre open where the body lies
  * between them, and the last rounds close them further). */
 #define GAR_TRYON_SEAMED_M 0.002f
+/* ... or once the widest gap, under this, has stopped closing over this many steps: where the
+ * body lies between the two sides of a joint (the dress's shoulder seam at the neck) the contacts
+ * hold it a few millimetres open; the last rounds close it (seams after contacts). */
+#define GAR_TRYON_STALLED_M   0.01f
+#define GAR_TRYON_STALL_STEPS 10
+/* Passes over the seams at the very end (point-edge joints share vertices: Gauss-Seidel). */
+#define GAR_TRYON_SEAM_ROUNDS 8
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
@@ -186,6 +192,16 @@ static void settle(tdress *d)
         sim_post_end(d->x, d->xp, 0, d->n);
         contacts(d, r == 0);
     }
+    /* the seams last, alternating with the contacts, then alone: a joint the contacts held open
+     * closes (each side moves by half its gap, a millimetre or two, within the thickness) */
+    for (int r = 0; r < GAR_TRYON_SEAM_ROUNDS; r++) {
+        sim_post_begin(d->x, d->xp, 0, d->n);
+        project_seams(d, 0.0f);
+        project_seams(d, 0.0f);
+        sim_post_end(d->x, d->xp, 0, d->n);
+        if (r + 1 < GAR_TRYON_SEAM_ROUNDS)
+            contacts(d, 0);
+    }
 }
 
 /* Greedy edge colouring, stretch springs first then the rest: a spring takes the lowest colour
@@ -258,7 +274,6 @@ static int tdress_init(tdress *d, gar_mesh *m, const fit_model *body, const gar_
     d->m = m, d->n = m->num_vertices;
     d->h = desc && desc->dt_s > 0 ? desc->dt_s : 0.002f;
     d->limit = fab->max_strain * GAR_TRYON_LIMIT_MARGIN;
-    if (getenv("GAR_LIM")) d->limit = atof(getenv("GAR_LIM"));
     int rc = gar_springs_build(m, &d->sp);
     if (rc)
         return rc;
@@ -326,30 +341,27 @@ int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
         fminf(max_seam, fmaxf(GAR_TRYON_MIN_SEAMING_S, max_gap(&d) / GAR_TRYON_SEAM_SPEED_M_S));
     int close_steps = (int)ceilf(close_s / d.h), max_steps = (int)(max_seam / d.h), s = 0;
     st->seaming_s = -1;
+    float last_gap = INFINITY;
+    /* no friction while seaming: the panels slide over the body as the seams pull them */
+    float friction = d.col->d.friction;
+    d.col->d.friction = 0.0f;
     for (; s < max_steps; s++) {
         float shrink = s < close_steps ? 1.0f - (float)(s + 1) / close_steps : 0.0f;
         step(&d, s, shrink, 0.0f, GAR_TRYON_SEAM_DAMPING_PER_S);
-        if (getenv("GAR_DBG") && s % 25 == 0) {
-            int jm = 0; float gm = 0;
-            for (int j = 0; j < m->num_joints; j++) { float g = joint_gap(&d, &m->joints[j]); if (g > gm) gm = g, jm = j; }
-            fprintf(stderr, "s %d shrink %.3f gap %.4f joint %d stitch %d a %d y %.3f\n", s, shrink, gm, jm, m->joints[jm].stitch, m->joints[jm].a, d.x[m->joints[jm].a][1]);
-        }
-        if (shrink == 0.0f && max_gap(&d) < GAR_TRYON_SEAMED_M) {
+        if (shrink > 0.0f || s % GAR_TRYON_STALL_STEPS)
+            continue;
+        float gap = max_gap(&d);
+        if (gap < GAR_TRYON_SEAMED_M || (gap < GAR_TRYON_STALLED_M && gap > 0.98f * last_gap)) {
             st->seaming_s = (s + 1) * d.h;
             s++;
             break;
         }
+        last_gap = gap;
     }
+    d.col->d.friction = friction;
     for (int k = 0; k < drape; k++, s++)
         step(&d, s, 0.0f, GAR_GRAVITY_M_S2, GAR_TRYON_DRAPE_DAMPING_PER_S);
     settle(&d);
-    if (getenv("GAR_DBG")) {
-        for (int q = 0; q < d.sp.n_stretch; q++) {
-            int a = d.sp.ends[2*q], b = d.sp.ends[2*q+1]; float e[3]; sim_v3_sub(d.x[a], d.x[b], e);
-            float st2 = sqrtf(sim_v3_dot(e,e)) / d.sp.rest_m[q] - 1;
-            if (st2 > 0.1f) fprintf(stderr, "strain %.3f at %d (%.3f %.3f %.3f) panel %d skip %d\n", st2, a, d.x[a][0], d.x[a][1], d.x[a][2], m->panel_of[a], d.skip[a]);
-        }
-    }
     for (int i = 0; i < d.n; i++)
         memcpy(m->xyz + 3 * i, d.x[i], 3 * sizeof(float));
     st->steps = s;
