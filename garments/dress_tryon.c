@@ -48,8 +48,10 @@
  * its tension exerts, and slid down the hips with the fabric's coefficient (jeans 7 cm in
  * 0.3 s); this gain holds the waist where it was sewn (docs/garments.md). */
 #define GAR_TRYON_FRICTION_GAIN 2.5f
-/* Passes over the seams at the very end (point-edge joints share vertices: Gauss-Seidel). */
+/* Rounds of seam passes and contacts at the very end (point-edge joints share vertices:
+ * Gauss-Seidel needs several passes). */
 #define GAR_TRYON_SEAM_ROUNDS 8
+#define GAR_TRYON_SEAM_PASSES 6
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
@@ -202,11 +204,10 @@ static void settle(tdress *d)
      * closes (each side moves by half its gap, a millimetre or two, within the thickness) */
     for (int r = 0; r < GAR_TRYON_SEAM_ROUNDS; r++) {
         sim_post_begin(d->x, d->xp, 0, d->n);
-        project_seams(d, 0.0f);
-        project_seams(d, 0.0f);
+        for (int k = 0; k < GAR_TRYON_SEAM_PASSES; k++)
+            project_seams(d, 0.0f);
         sim_post_end(d->x, d->xp, 0, d->n);
-        if (r + 1 < GAR_TRYON_SEAM_ROUNDS)
-            contacts(d, 0);
+        contacts(d, r + 1 == GAR_TRYON_SEAM_ROUNDS);
     }
 }
 
