@@ -51,7 +51,7 @@
 /* Rounds of seam passes and contacts at the very end (point-edge joints share vertices:
  * Gauss-Seidel needs several passes). */
 #define GAR_TRYON_SEAM_ROUNDS 8
-#define GAR_TRYON_SEAM_PASSES 6
+#define GAR_TRYON_SEAM_PASSES 10
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
