@@ -108,17 +108,17 @@ static void project_seams(tdress *d, float shrink)
         partner(d, jt, p);
         sim_v3_sub(p, d->x[jt->a], g);
         float len = sqrtf(sim_v3_dot(g, g)), target = d->gap0[j] * shrink;
-        float wa = d->x[jt->a][3], w0 = (1 - jt->w) * d->x[jt->b0][3],
-              w1 = jt->b1 != jt->b0 ? jt->w * d->x[jt->b1][3] : 0;
-        float wsum = wa + (1 - jt->w) * w0 + (jt->b1 != jt->b0 ? jt->w * w1 : 0);
+        /* the gradient is n at a, -(1 - w) n at b0 and -w n at b1 (b1 == b0: the point itself) */
+        float w = jt->b1 != jt->b0 ? jt->w : 0.0f;
+        float wa = d->x[jt->a][3], w0 = (1 - w) * d->x[jt->b0][3], w1 = w * d->x[jt->b1][3];
+        float wsum = wa + (1 - w) * w0 + w * w1;
         if (len <= target || len < 1e-9f || wsum <= 0)
             continue;
         float c = (len - target) / (len * wsum); /* along g, per unit inverse mass */
         for (int k = 0; k < 3; k++) {
             d->x[jt->a][k] += wa * c * g[k];
             d->x[jt->b0][k] -= w0 * c * g[k];
-            if (jt->b1 != jt->b0)
-                d->x[jt->b1][k] -= w1 * c * g[k];
+            d->x[jt->b1][k] -= w1 * c * g[k];
         }
     }
 }
