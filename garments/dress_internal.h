@@ -35,6 +35,13 @@ typedef struct gar_springs {
 int gar_springs_build(const gar_mesh *m, gar_springs *s);
 void gar_springs_free(gar_springs *s);
 
+/* Masses lumped from the flat triangles (kg per vertex), floored at half the mean (boundary
+ * vertices). */
+void gar_lump_masses(const gar_mesh *m, float density_kg_m2, float *mass);
+/* skip[v] |= 1 at seam vertices, |= 2 at their stretch neighbours (cloth-cloth leaves both out:
+ * the panels meet there by design). skip is zeroed by the caller. */
+void gar_seam_skip(const gar_mesh *m, const gar_springs *sp, uint8_t *skip);
+
 /* Penetration depth of points into the body mesh (signed distance < 0 inside), from the
  * nearest body vertex's triangles. */
 typedef struct gar_body_sdf gar_body_sdf;

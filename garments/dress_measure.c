@@ -90,13 +90,7 @@ int gar_dress_measure(const gar_mesh *m, const fit_model *body, gar_dress_stats 
     if (!rc && !skip)
         rc = -GAR_ERR_NO_MEMORY;
     if (!rc) { /* seam vertices and their stretch neighbours meet the other panel by design */
-        for (int j = 0; j < m->num_joints; j++)
-            skip[m->joints[j].a] = skip[m->joints[j].b0] = skip[m->joints[j].b1] = 1;
-        for (int s = 0; s < sp.n_stretch; s++) {
-            int a = sp.ends[2 * s], b = sp.ends[2 * s + 1];
-            if ((skip[a] & 1) || (skip[b] & 1))
-                skip[a] |= 2, skip[b] |= 2;
-        }
+        gar_seam_skip(m, &sp, skip);
         gar_cc *cc = gar_cc_create(m, skip);
         if (!cc)
             rc = -GAR_ERR_NO_MEMORY;

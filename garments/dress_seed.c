@@ -62,24 +62,6 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-/* Masses lumped from the flat triangles, floored at half the mean (boundary vertices). */
-static void lump_masses(dress *d, float density)
-{
-    const gar_mesh *m = d->m;
-    double total = 0;
-    for (int t = 0; t < m->num_triangles; t++) {
-        const int32_t *tr = m->triangles + 3 * t;
-        const float *a = m->uv_m + 2 * tr[0], *b = m->uv_m + 2 * tr[1], *c = m->uv_m + 2 * tr[2];
-        float area = 0.5f * fabsf((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-        for (int e = 0; e < 3; e++)
-            d->mass[tr[e]] += density * area / 3;
-        total += density * area;
-    }
-    float floor_kg = 0.5f * (float)(total / d->n);
-    for (int i = 0; i < d->n; i++)
-        d->mass[i] = fmaxf(d->mass[i], floor_kg);
-}
-
 static int joint_csr(dress *d)
 {
     const gar_mesh *m = d->m;
@@ -105,19 +87,6 @@ static int joint_csr(dress *d)
     }
     free(fill);
     return 0;
-}
-
-/* Seam vertices and their stretch neighbours: left out of cloth-cloth. */
-static void mark_seams(dress *d)
-{
-    const gar_mesh *m = d->m;
-    for (int j = 0; j < m->num_joints; j++)
-        d->skip[m->joints[j].a] = d->skip[m->joints[j].b0] = d->skip[m->joints[j].b1] = 1;
-    for (int s = 0; s < d->sp.n_stretch; s++) {
-        int a = d->sp.ends[2 * s], b = d->sp.ends[2 * s + 1];
-        if ((d->skip[a] & 1) || (d->skip[b] & 1))
-            d->skip[a] |= 2, d->skip[b] |= 2;
-    }
 }
 
 static void partner(const dress *d, const gar_joint *j, float out[3])
@@ -350,7 +319,7 @@ static int dress_init(dress *d, gar_mesh *m, const fit_model *body, const gar_dr
         return -GAR_ERR_NO_MEMORY;
     if ((rc = joint_csr(d)))
         return rc;
-    lump_masses(d, fab->density_kg_m2);
+    gar_lump_masses(m, fab->density_kg_m2, d->mass);
     float mmin = INFINITY;
     for (int i = 0; i < d->n; i++)
         mmin = fminf(mmin, d->mass[i]);
@@ -364,7 +333,7 @@ static int dress_init(dress *d, gar_mesh *m, const fit_model *body, const gar_dr
                               d->maps);
     if (rc)
         return rc;
-    mark_seams(d);
+    gar_seam_skip(m, &d->sp, d->skip);
     if (desc && desc->cloth_cloth && !(d->cc = gar_cc_create(m, d->skip)))
         return -GAR_ERR_NO_MEMORY;
     return 0;

@@ -191,6 +191,12 @@ typedef struct gar_dress_stats {
 /* Dresses m (its xyz placed: gar_mesh_place) on the body in its rest pose. */
 int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const struct fit_model *body,
                    const gar_dress_desc *desc, gar_dress_stats *stats, gar_reject *why);
+/* tryon's own dressing (dress_tryon.c): sim/'s XPBD in small steps (desc->dt_s, 0 = 2 ms),
+ * the seams as zero-length constraints closed progressively (no gravity), exact cloth-body
+ * contacts from sim/'s BVH, then desc->drape_steps (0 = 150) with gravity. max_seaming_s:
+ * 0 = 1 s; map_pixel_m is not used. */
+int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const struct fit_model *body,
+                    const gar_dress_desc *desc, gar_dress_stats *stats, gar_reject *why);
 /* The figures alone, of any state of the mesh (xyz) on the rest body. */
 int gar_dress_measure(const gar_mesh *m, const struct fit_model *body, gar_dress_stats *stats);
 
