@@ -394,7 +394,8 @@ static void usage(FILE *f)
             "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
             "frame's motion carried on; 0: none); --frames: all. --smooth: the published pose's\n"
             "One Euro filter's cut-off at rest (0.5 Hz; 0: no filter), its rise per m/s of\n"
-            "the root (--smooth-beta-root 8) and per rad/s of a joint (--smooth-beta-rot 2).\n");
+            "the root (--smooth-beta-root 8) and per m/s of a joint's reach (its rad/s times\n"
+            "the distance to the farthest joint below it; --smooth-beta-rot 3).\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)

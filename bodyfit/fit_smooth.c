@@ -24,6 +24,14 @@ void fit_smoother_init(fit_smoother *s, const fit_smooth_desc *d)
     x->beta_root = x->beta_root > 0.0f ? x->beta_root : FIT_SMOOTH_BETA_ROOT;
     x->beta_rot = x->beta_rot > 0.0f ? x->beta_rot : FIT_SMOOTH_BETA_ROT;
     x->frame_s = x->frame_s > 0.0f ? x->frame_s : 1.0f / 30.0f;
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        s->lever_m[j] = 1.0f;
+}
+
+void fit_smoother_set_levers(fit_smoother *s, const float lever_m[FIT_JOINT_COUNT])
+{
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        s->lever_m[j] = lever_m[j] > 0.0f ? lever_m[j] : 1.0f;
 }
 
 void fit_smoother_reset(fit_smoother *s)
@@ -54,7 +62,8 @@ void fit_smoother_step(fit_smoother *s, const fit_pose *in, fit_pose *out)
     } else {
         smooth_vec3(&s->d, s->d.beta_root, in->root, s->x.root, s->dx.root);
         for (int j = 0; j < FIT_JOINT_COUNT; ++j)
-            smooth_vec3(&s->d, s->d.beta_rot, in->rot[j], s->x.rot[j], s->dx.rot[j]);
+            smooth_vec3(&s->d, s->d.beta_rot * s->lever_m[j], in->rot[j], s->x.rot[j],
+                        s->dx.rot[j]);
         fit_pose_clamp(&s->x);
     }
     *out = s->x;

@@ -80,6 +80,28 @@ static int track_models(fit_tracker *t, const fit_shape *shape, char *err, size_
     return 0;
 }
 
+/* Each joint's reach: the farthest joint below it in the rest pose (a leaf: its bone's length). */
+static void track_smooth_levers(fit_tracker *t)
+{
+    const float *r = fit_model_rest_joints(t->coarse);
+    float lever[FIT_JOINT_COUNT] = {0};
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        for (int a = fit_joint_parent((fit_joint)j); a >= 0; a = fit_joint_parent((fit_joint)a)) {
+            float d[3] = {r[j * 3] - r[a * 3], r[j * 3 + 1] - r[a * 3 + 1],
+                          r[j * 3 + 2] - r[a * 3 + 2]};
+            float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            lever[a] = l > lever[a] ? l : lever[a];
+        }
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        if (lever[j] <= 0.0f) {
+            int p = fit_joint_parent((fit_joint)j);
+            float d[3] = {r[j * 3] - r[p * 3], r[j * 3 + 1] - r[p * 3 + 1],
+                          r[j * 3 + 2] - r[p * 3 + 2]};
+            lever[j] = p >= 0 ? sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) : 1.0f;
+        }
+    fit_smoother_set_levers(&t->smooth, lever);
+}
+
 fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t errlen)
 {
     fit_tracker *t = calloc(1, sizeof *t);
@@ -107,6 +129,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     }
     t->topology_id = 1;
     t->scale = 1.0f;
+    track_smooth_levers(t);
     if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
         fit_shape_base_init(&t->base_full, t->full)) {
         if (err)

@@ -113,7 +113,7 @@ echo "tables and JSON lines in $OUT; charts in $FIG/bodyfit_*.png"
 if want smooth; then
   SMOOTH_RECS="$(rec still 0) $(rec walk 0) $(rec fast_swing 1) $(rec arm_raise 0) $(rec turn 2)"
   : > "$OUT/smooth.txt"
-  for args in "--smooth 0" "" "--smooth-beta-rot 5" "--smooth-beta-rot 10" "--smooth 1"; do
+  for args in "--smooth 0" "" "--smooth-beta-rot 8" "--smooth-beta-rot 16" "--smooth 1"; do
     echo "== ${args:-defaults}" >> "$OUT/smooth.txt"
     # shellcheck disable=SC2086 # args are words
     "$BENCH" $args $SMOOTH_RECS >> "$OUT/smooth.txt"

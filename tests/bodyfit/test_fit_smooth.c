@@ -84,10 +84,15 @@ static void test_still_noise_is_smoothed(void **state)
 
 /* Frames until every root component is within 5 mm and every rotation within 0.01 rad of a step
  * of 0.3 m and 0.4 rad; 100 if never. */
-static int frames_to_follow(const fit_smooth_desc *d)
+static int frames_to_follow(const fit_smooth_desc *d, float pelvis_lever_m)
 {
     fit_smoother s;
     fit_smoother_init(&s, d);
+    float lever[FIT_JOINT_COUNT];
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        lever[j] = 1.0f;
+    lever[FIT_PELVIS] = pelvis_lever_m;
+    fit_smoother_set_levers(&s, lever);
     fit_pose a, b, out;
     mid_pose(&a);
     b = a;
@@ -105,17 +110,21 @@ static int frames_to_follow(const fit_smooth_desc *d)
 }
 
 /* The speed raises the cut-off: the defaults follow a step within 10 frames (a third of a
- * second); the same filter held at its resting cut-off (a tiny beta) would not. */
+ * second); the same filter held at its resting cut-off (a tiny beta) would not; a joint with a
+ * short reach opens it later. */
 static void test_step_is_followed(void **state)
 {
     (void)state;
-    int adaptive = frames_to_follow(NULL);
+    int adaptive = frames_to_follow(NULL, 1.0f);
     fit_smooth_desc slow = {.beta_root = 1e-6f, .beta_rot = 1e-6f};
-    int fixed = frames_to_follow(&slow);
+    int fixed = frames_to_follow(&slow, 1.0f);
+    /* the same turn of a joint that reaches 5 cm (a hand) is smoothed longer */
+    int short_lever = frames_to_follow(NULL, 0.05f);
     print_message("step followed in %d frames (a fixed %.1f Hz low-pass: %d)\n", adaptive,
                   (double)FIT_SMOOTH_MIN_CUTOFF_HZ, fixed);
     assert_true(adaptive <= 10);
     assert_true(fixed > 20);
+    assert_true(short_lever > adaptive);
 }
 
 static void test_reset_passes_through(void **state)
