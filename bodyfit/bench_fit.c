@@ -368,11 +368,22 @@ static int parse_int(const char *s, int lo, int hi, int *out)
     return 0;
 }
 
+static int parse_float(const char *s, float lo, float hi, float *out)
+{
+    char *end;
+    float v = strtof(s, &end);
+    if (!*s || *end || !(v >= lo && v <= hi))
+        return -1;
+    *out = v;
+    return 0;
+}
+
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
             "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
+            "                       [--smooth HZ] [--smooth-beta-root B] [--smooth-beta-rot B]\n"
             "                       RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
@@ -381,7 +392,10 @@ static void usage(FILE *f)
             "(x right, y down, z forward, metres); with several recordings, in DIR/NAME/ each.\n"
             "Defaults: --points 400 --iterations 6\n"
             "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
-            "frame's motion carried on; 0: none); --frames: all.\n");
+            "frame's motion carried on; 0: none); --frames: all. --smooth: the published pose's\n"
+            "One Euro filter's cut-off at rest (0.5 Hz; 0: no filter), its rise per m/s of\n"
+            "the root (--smooth-beta-root 8) and per m/s of a joint's reach (its rad/s times\n"
+            "the distance to the farthest joint below it; --smooth-beta-rot 3).\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -395,7 +409,9 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             exit(0);
         } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
                    strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
-                   strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict")) {
+                   strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict") &&
+                   strcmp(a, "--smooth") && strcmp(a, "--smooth-beta-root") &&
+                   strcmp(a, "--smooth-beta-rot")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -421,7 +437,15 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = *end || !(o->td.predict >= 0.0f && o->td.predict <= 2.0f);
             if (o->td.predict == 0.0f)
                 o->td.predict = -1.0f; /* none */
-        } else if (!strcmp(a, "--frames"))
+        } else if (!strcmp(a, "--smooth")) {
+            bad = parse_float(v, 0.0f, 100.0f, &o->td.smooth_hz);
+            if (!bad && o->td.smooth_hz == 0.0f)
+                o->td.smooth_hz = -1.0f; /* no filter */
+        } else if (!strcmp(a, "--smooth-beta-root"))
+            bad = parse_float(v, 1e-6f, 1e4f, &o->td.smooth_beta_root);
+        else if (!strcmp(a, "--smooth-beta-rot"))
+            bad = parse_float(v, 1e-6f, 1e4f, &o->td.smooth_beta_rot);
+        else if (!strcmp(a, "--frames"))
             bad = parse_int(v, 1, 1000000, &o->max_frames);
         else {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);

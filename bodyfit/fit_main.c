@@ -151,12 +151,14 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: tryon-bodyfit [--frames N] [--vertices N] [--fit-vertices N] [--points N]\n"
                "                     [--iterations N] [--triangles-every N] [--queue latest|all]\n"
+               "                     [--smooth on|off]\n"
                "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
                "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
                "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
                "exit after N bodies. --vertices: the published mesh (6000); --fit-vertices: the\n"
                "coarse mesh fitted (1500); --points: data points per frame (400); --iterations:\n"
-               "Gauss-Newton iterations per frame (6).\n"
+               "Gauss-Newton iterations per frame (6); --smooth: the published pose's One Euro\n"
+               "filter (on).\n"
                "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
 }
 
@@ -171,7 +173,7 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
         } else if (strcmp(a, "--frames") && strcmp(a, "--vertices") &&
                    strcmp(a, "--fit-vertices") && strcmp(a, "--points") &&
                    strcmp(a, "--iterations") && strcmp(a, "--triangles-every") &&
-                   strcmp(a, "--queue")) {
+                   strcmp(a, "--queue") && strcmp(a, "--smooth")) {
             fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -190,6 +192,9 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
         else if (!strcmp(a, "--queue")) {
             bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0;
             p->queue_all = !strcmp(v, "all");
+        } else if (!strcmp(a, "--smooth")) {
+            bad = strcmp(v, "on") != 0 && strcmp(v, "off") != 0;
+            d->smooth_hz = !strcmp(v, "off") ? -1.0f : 0.0f;
         } else if (!strcmp(a, "--triangles-every"))
             bad = parse_count(v, 1, 1000000, &p->triangles_every);
         else {

@@ -93,8 +93,11 @@ typedef struct fit_tracker_desc {
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
     float temporal;      /* 0 = the default (2e-4): weight of the temporal prior */
     float predict;       /* 0 = the default (1): share of the last motion carried on; < 0 none */
-    int fixed_shape;     /* 1 = use shape as given, never estimate it */
-    fit_shape shape;     /* the starting (or fixed) shape; zero height = the average preset */
+    float smooth_hz;     /* 0 = the default: the published pose's One Euro filter's cut-off at
+                            rest (fit_smooth.h); < 0 = no filter */
+    float smooth_beta_root, smooth_beta_rot; /* 0 = the defaults (fit_smooth.h) */
+    int fixed_shape;                         /* 1 = use shape as given, never estimate it */
+    fit_shape shape; /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;
 
 typedef struct fit_result {

@@ -4,6 +4,7 @@
  * person is initialised from the rest pose again, with no human in the loop. */
 #include "cv_shim.h"
 #include "fit_internal.h"
+#include "fit_smooth.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -43,6 +44,8 @@ struct fit_tracker {
     int have_pose, have_last, person_frames, topology_id;
     double height_sum;
     int height_n;
+    fit_smoother smooth; /* the published pose only */
+    fit_pose published;
 };
 
 static double now_ms(void)
@@ -77,6 +80,28 @@ static int track_models(fit_tracker *t, const fit_shape *shape, char *err, size_
     return 0;
 }
 
+/* Each joint's reach: the farthest joint below it in the rest pose (a leaf: its bone's length). */
+static void track_smooth_levers(fit_tracker *t)
+{
+    const float *r = fit_model_rest_joints(t->coarse);
+    float lever[FIT_JOINT_COUNT] = {0};
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        for (int a = fit_joint_parent((fit_joint)j); a >= 0; a = fit_joint_parent((fit_joint)a)) {
+            float d[3] = {r[j * 3] - r[a * 3], r[j * 3 + 1] - r[a * 3 + 1],
+                          r[j * 3 + 2] - r[a * 3 + 2]};
+            float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            lever[a] = l > lever[a] ? l : lever[a];
+        }
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        if (lever[j] <= 0.0f) {
+            int p = fit_joint_parent((fit_joint)j);
+            float d[3] = {r[j * 3] - r[p * 3], r[j * 3 + 1] - r[p * 3 + 1],
+                          r[j * 3 + 2] - r[p * 3 + 2]};
+            lever[j] = p >= 0 ? sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) : 1.0f;
+        }
+    fit_smoother_set_levers(&t->smooth, lever);
+}
+
 fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t errlen)
 {
     fit_tracker *t = calloc(1, sizeof *t);
@@ -92,6 +117,10 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
+    fit_smooth_desc sd = {.min_cutoff_hz = x->smooth_hz,
+                          .beta_root = x->smooth_beta_root,
+                          .beta_rot = x->smooth_beta_rot};
+    fit_smoother_init(&t->smooth, &sd);
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);
     if (!t->seg || track_models(t, &s0, err, errlen)) {
@@ -100,6 +129,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     }
     t->topology_id = 1;
     t->scale = 1.0f;
+    track_smooth_levers(t);
     if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
         fit_shape_base_init(&t->base_full, t->full)) {
         if (err)
@@ -231,6 +261,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
         track_shape_reset(t); /* the next person may be another */
     t->have_pose = 0;
     t->have_last = 0;
+    fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
     out->state = FIT_STATE_LOST;
     out->error = e;
@@ -310,11 +341,16 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     if (!t->d.fixed_shape)
         track_shape_update(t);
     double t2 = now_ms();
-    fit_model_pose(t->full, &t->pose, t->verts, out->joints);
+    t->published = t->pose;
+    if (fresh)
+        fit_smoother_reset(&t->smooth);
+    if (t->d.smooth_hz >= 0.0f)
+        fit_smoother_step(&t->smooth, &t->pose, &t->published);
+    fit_model_pose(t->full, &t->published, t->verts, out->joints);
     out->ms_skin = now_ms() - t2;
     out->state = t->d.fixed_shape || t->person_frames > t->d.shape_frames ? FIT_STATE_TRACKING
                                                                           : FIT_STATE_INIT;
-    out->pose = t->pose;
+    out->pose = t->published;
     out->shape = t->shape;
     out->vertices = t->verts;
     out->vertex_count = fit_model_vertex_count(t->full);

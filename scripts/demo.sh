@@ -70,7 +70,7 @@ scripts/bus_logger.sh "$(bin tryon-bus-check)" --quiet --channel "${TRYON_CHANNE
     "$log" >"$out/logger.txt" 2>&1 &
 pids+=($!)
 "$(bin tryon-sim)" --backend "$backend" --frames "$frames" --retry-budget "$retry_budget" \
-    >"$out/sim.txt" 2>&1 &
+    ${TRYON_DEMO_SIM_STATS:+--stats "$TRYON_DEMO_SIM_STATS"} >"$out/sim.txt" 2>&1 &
 pids+=($!)
 sim=$!
 if [ "$body_stage" = truth ]; then
@@ -78,7 +78,8 @@ if [ "$body_stage" = truth ]; then
     ready="frames of ground truth"
     body_words="tryon-truth (the recording's true body, the reference)"
 else
-    "$(bin tryon-bodyfit)" --frames "$frames" --vertices "$body_verts" >"$out/body.txt" 2>&1 &
+    "$(bin tryon-bodyfit)" --frames "$frames" --vertices "$body_verts" \
+        ${TRYON_DEMO_SMOOTH:+--smooth "$TRYON_DEMO_SMOOTH"} >"$out/body.txt" 2>&1 &
     ready="listening on"
     body_words="tryon-bodyfit (the body fitted to each depth frame)"
 fi

@@ -58,6 +58,7 @@ typedef struct app {
     int want_switch, controls_refused;
     int32_t topology; /* CLOTH's topology_id: a new one for every garment made */
     int tris_due;     /* the garment is new: its triangles go with the next CLOTH */
+    FILE *stats;      /* --stats FILE: a CSV line of sim_frame_stats per simulated body */
 } app;
 
 /* --backend auto: the OpenCL backend where the device it would open is a GPU or TRYON_CL_DEVICE
@@ -311,6 +312,11 @@ static void step_body(app *a)
         fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
                 why.detail);
     publish(a, b, &st, &t);
+    if (a->stats)
+        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f\n", b->seq, st.state,
+                st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
+                st.feature_points_moved, st.max_strain, st.max_pen_mm, st.ms_iterations,
+                st.ms_total);
     a->frames_done++;
     if (a->diverged_run >= SIM_MAIN_DIVERGED_REBUILD) {
         fprintf(stderr,
@@ -327,6 +333,10 @@ static int usage(FILE *f, int rc)
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
+            "                 [--stats FILE]\n"
+            "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
+            "          strain retries, iterations, feature points moved, max strain, max\n"
+            "          penetration mm, iterations ms, total ms)\n"
             "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
             "          names a device), else C; opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
@@ -382,6 +392,10 @@ static int parse(app *a, int argc, char **argv)
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
             a->every_body = !strcmp(v, "all");
+        else if (!strcmp(o, "--stats") && !a->stats && (a->stats = fopen(v, "w")))
+            fprintf(a->stats,
+                    "body,state,settle_rounds,retries,strain_retries,iterations,"
+                    "feature_points_moved,max_strain,max_pen_mm,ms_iterations,ms_total\n");
         else {
             fprintf(stderr, "tryon-sim: unknown option or bad value: %s %s\n", o, v);
             return -1;
@@ -403,8 +417,11 @@ int main(int argc, char **argv)
 {
     app a = {0};
     int pr = parse(&a, argc, argv);
-    if (pr != 0)
+    if (pr != 0) {
+        if (a.stats)
+            fclose(a.stats);
         return pr > 0 ? usage(stdout, 0) : usage(stderr, 2);
+    }
     char err[512], channel_body[BUS_CHANNEL_MAX];
     sim_topologies_init(&a.topo, a.desc.max_body_vertices, a.desc.max_body_triangles);
     a.lcm = bus_open(NULL, err, sizeof err);
@@ -453,6 +470,8 @@ int main(int argc, char **argv)
     lcm_destroy(a.lcm);
     sim_destroy(a.sim);
     sim_topologies_free(&a.topo);
+    if (a.stats)
+        fclose(a.stats);
     free(a.xyz);
     free(a.next.xyz);
     return failed ? 1 : 0;

@@ -3,13 +3,13 @@
 # runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
 # $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
-#        fails tradeoffs; all by default; a section left out keeps its data from an earlier run)
+#        fails tradeoffs smooth pipeline; all by default; a section left out keeps its data from an earlier run)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
 B=${1:-build}
 [ $# -gt 0 ] && shift
-SECTIONS=${*:-headline sweep fails tradeoffs}
+SECTIONS=${*:-headline sweep fails tradeoffs smooth pipeline}
 want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/bodyfit/tryon-bench-fit
 SYNTH=$B/recordings/tryon-synth
@@ -107,3 +107,34 @@ GP
   done
 fi
 echo "tables and JSON lines in $OUT; charts in $FIG/bodyfit_*.png"
+
+# 5. the published pose's One Euro filter: off, then the defaults, then a few settings, on
+#    still, walk, fast swing, arm raise and turn (one shape each)
+if want smooth; then
+  SMOOTH_RECS="$(rec still 0) $(rec walk 0) $(rec fast_swing 1) $(rec arm_raise 0) $(rec turn 2)"
+  : > "$OUT/smooth.txt"
+  for args in "--smooth 0" "" "--smooth-beta-rot 8" "--smooth-beta-rot 16" "--smooth 1"; do
+    echo "== ${args:-defaults}" >> "$OUT/smooth.txt"
+    # shellcheck disable=SC2086 # args are words
+    "$BENCH" $args $SMOOTH_RECS >> "$OUT/smooth.txt"
+  done
+fi
+
+# 6. the demo (walk, 90 frames) three ways: fitted without the filter, fitted, the true body;
+#    tryon-sim's per-body statistics in $OUT/sim-NAME.csv, the demo's output in $OUT/demo-NAME.txt,
+#    and per run the medians of the sim's work, settle rounds and feature points moved
+if want pipeline; then
+  med() { # CSV COLUMN: the median of a column of tryon-sim --stats
+    tail -n +2 "$1" | cut -d, -f"$2" | sort -g | awk '{v[NR]=$1} END {print v[int((NR+1)/2)]}'
+  }
+  : > "$OUT/pipeline.txt"
+  abs_out=$(cd "$OUT" && pwd)
+  for run in fit-off:fit:off fit:fit: truth:truth:; do
+    name=${run%%:*}; rest=${run#*:}; body=${rest%%:*}; smooth=${rest#*:}
+    TRYON_DEMO_BODY=$body TRYON_DEMO_SMOOTH=$smooth TRYON_DEMO_SIM_STATS="$abs_out/sim-$name.csv" \
+        "$FIG/../../scripts/demo.sh" "$B" > "$OUT/demo-$name.txt" 2>&1 || true
+    echo "$name: sim ms_total p50 $(med "$OUT/sim-$name.csv" 11), settle rounds p50" \
+        "$(med "$OUT/sim-$name.csv" 3), feature points moved p50 $(med "$OUT/sim-$name.csv" 7);" \
+        "$(grep -E '^sim ' "$OUT/demo-$name.txt")" >> "$OUT/pipeline.txt"
+  done
+fi

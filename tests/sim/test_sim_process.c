@@ -221,12 +221,52 @@ static void test_sim_process_latest_body_wins(void **state)
     free(log);
 }
 
+/* --stats FILE: a header, then one CSV line of 11 fields per simulated body (as many as CLOTH
+ * messages came back), iterations and milliseconds positive. */
+static void test_sim_process_stats_file(void **state)
+{
+    (void)state;
+    session s;
+    const char *path = "test_sim_process_stats.csv"; /* in the test's build folder */
+    session_start(&s, "stats",
+                  (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", "--stats",
+                             (char *)path, NULL});
+    for (int k = 0; k < 5; k++) {
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+        lcm_handle_timeout(s.lcm, 100);
+    }
+    for (int k = 0; k < 50 && s.n.last_seq != s.seq - 1; k++)
+        lcm_handle_timeout(s.lcm, 100);
+    char *log;
+    int status = session_stop(&s, &log);
+    char *csv = ts_read_file(path);
+    remove(path);
+    printf("# %d cloth; stats:\n%s", s.n.cloth, csv ? csv : "(none)");
+    assert_int_equal(status, 0);
+    assert_non_null(csv);
+    assert_true(strncmp(csv, "body,state,settle_rounds,", 25) == 0);
+    int rows = 0;
+    for (char *line = strchr(csv, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
+        int body, st, settle, retries, strain_retries, iters, fp;
+        float strain, pen, ms_it, ms;
+        assert_int_equal(sscanf(line + 1, "%d,%d,%d,%d,%d,%d,%d,%f,%f,%f,%f", &body, &st, &settle,
+                                &retries, &strain_retries, &iters, &fp, &strain, &pen, &ms_it, &ms),
+                         11);
+        assert_true(iters > 0 && ms > 0.0f && settle >= 0 && fp >= 0);
+        rows++;
+    }
+    assert_int_equal(rows, s.n.cloth);
+    free(csv);
+    free(log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sim_process_publishes_cloth_and_survives_bad_bodies),
         cmocka_unit_test(test_sim_process_latest_body_wins),
         cmocka_unit_test(test_sim_process_auto_backend),
+        cmocka_unit_test(test_sim_process_stats_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
