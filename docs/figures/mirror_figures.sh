@@ -4,7 +4,8 @@
 # published (tryon-sim's latency) and capture -> garment on screen (tryon-mirror's, in a window
 # under Xvfb, or headless with --headless-only).
 #   docs/figures/mirror_figures.sh BUILD_DIR [--headless-only]
-# Environment: MIRROR_FIG_FRAMES (150), MIRROR_FIG_BODY_VERTS (6000), MIRROR_FIG_BACKEND (c).
+# Environment: MIRROR_FIG_FRAMES (150), MIRROR_FIG_BODY_VERTS (6000), MIRROR_FIG_BACKEND (c),
+# MIRROR_FIG_BODY (bodyfit: all four stages real; truth: the recording's true body).
 set -euo pipefail
 build=${1:?usage: mirror_figures.sh BUILD_DIR [--headless-only]}
 mode=${2:-}
@@ -28,7 +29,7 @@ fi
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-run=("$(bin tryon)" run "$rec" --body truth --backend "$backend")
+run=("$(bin tryon)" run "$rec" --body "${MIRROR_FIG_BODY:-bodyfit}" --backend "$backend")
 if [ "$mode" != --headless-only ] && command -v xvfb-run >/dev/null; then
     echo "== tryon run in a window under Xvfb (capture -> garment on screen is the mirror's latency)"
     xvfb-run -a -s "-screen 0 1280x1024x24" "${run[@]}" | tee "$out/summary.txt"
