@@ -171,7 +171,7 @@ static int add_stages(session *s)
     }
     int truth = !strcmp(s->o.body, "truth");
     launch_stage *body = session_stage(s, truth ? "tryon-truth" : "tryon-bodyfit", LAUNCH_WORKER,
-                                       truth ? "frames of ground truth" : NULL);
+                                       truth ? "frames of ground truth" : "listening on");
     if (!body) {
         if (!truth)
             fprintf(stderr, "tryon: on a recording from tryon-synth, --body truth runs without "

@@ -2,7 +2,8 @@
  * body stage: tryon-bodyfit is not needed here). A SIGKILLed stage is started again within a
  * second, a CONTROL request dresses the body in another garment while the pipeline runs,
  * Ctrl-C and the end of the recording both stop everything with no process left behind, a
- * recorded session replays, and bad invocations are refused with the fix named. */
+ * recorded session replays, tryon-bodyfit as the body stage sees every frame, and bad
+ * invocations are refused with the fix named.
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -239,6 +240,35 @@ static void test_recorded_session_replays(void **state)
     ts_remove_dir(dir);
 }
 
+/* With the fitter as the body stage, every frame of the recording reaches it: the capture waits
+ * for tryon-bodyfit's ready line (without it, the first half second of frames went by before
+ * tryon-bodyfit listened). */
+static void test_bodyfit_sees_every_frame(void **state)
+{
+    (void)state;
+    char dir[256], out[300], txt[320];
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "launcher-fit"), 0);
+    snprintf(out, sizeof out, "%s/frames", dir);
+    snprintf(txt, sizeof txt, "%s/out.txt", dir);
+    char *run[] = {TRYON_EXE, "run",    SAMPLE, "--body",    "bodyfit", "--headless", "--out",
+                   out,       "--rate", "10",   "--backend", "c",       NULL};
+    char tmpdir[300];
+    snprintf(tmpdir, sizeof tmpdir, "TMPDIR=%s", dir);
+    char *env[] = {tmpdir, NULL};
+    assert_int_equal(ts_wait(ts_spawn_out(run, env, txt), 60000), 0);
+    char *said = ts_read_file(txt);
+    assert_non_null(said);
+    const char *row = strstr(said, "\nbodyfit ");
+    int frames = -1, dropped = -1;
+    if (!row || sscanf(row + 1, "bodyfit %d %d", &frames, &dropped) != 2)
+        fail_msg("no bodyfit row in the latency summary:\n%s", said);
+    if (frames != 8 || dropped != 0)
+        fail_msg("tryon-bodyfit fitted %d of the 8 frames (%d dropped):\n%s", frames, dropped,
+                 said);
+    free(said);
+    ts_remove_dir(dir);
+}
+
 static void expect_refusal(char *const argv[], char *const env[], int status, const char *text)
 {
     char dir[256], out[300];
@@ -287,6 +317,7 @@ int main(void)
         cmocka_unit_test(test_killed_stage_restarts_and_nothing_is_left),
         cmocka_unit_test(test_control_switches_garment_and_ctrl_c_stops_all),
         cmocka_unit_test(test_recorded_session_replays),
+        cmocka_unit_test(test_bodyfit_sees_every_frame),
         cmocka_unit_test(test_bad_invocations_name_the_fix),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
