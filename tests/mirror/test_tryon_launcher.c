@@ -3,7 +3,7 @@
  * second, a CONTROL request dresses the body in another garment while the pipeline runs,
  * Ctrl-C and the end of the recording both stop everything with no process left behind, a
  * recorded session replays, tryon-bodyfit as the body stage sees every frame, and bad
- * invocations are refused with the fix named.
+ * invocations are refused with the fix named. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
