@@ -1,5 +1,5 @@
 /* The tryon launcher: every stage its own process on the test's private bus (tryon-truth as the
- * body stage: tryon-bodyfit is not needed here). A SIGKILLed stage is started again within a
+ * body stage, tryon-bodyfit in one test). A SIGKILLed stage is started again within a
  * second, a CONTROL request dresses the body in another garment while the pipeline runs,
  * Ctrl-C and the end of the recording both stop everything with no process left behind, a
  * recorded session replays, tryon-bodyfit as the body stage sees every frame, and bad
