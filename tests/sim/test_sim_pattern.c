@@ -72,8 +72,9 @@ static void wear_on_walk(const char *path, sim_size size, const char *id)
         r = sim_step(s, xyz, nv, fit_model_triangles(body), nt, &st, &why);
         if (r != 0)
             fail_msg("frame %d: %s", k, why.detail);
-        print_message("frame %d: %s, %d inside (max %.2f mm), max strain %.3f\n", k,
-                      sim_state_name(st.state), st.penetrating, st.max_pen_mm, st.max_strain);
+        print_message("frame %d: %s, %.1f ms, %d inside (max %.2f mm), max strain %.3f\n", k,
+                      sim_state_name(st.state), st.ms_total, st.penetrating, st.max_pen_mm,
+                      st.max_strain);
         assert_int_equal(st.penetrating, 0);
         assert_true(st.state != SIM_STATE_DIVERGED);
     }
