@@ -249,8 +249,10 @@ static void on_body(const char *channel, const void *m, void *user)
         memcpy(p->joints, b->joints, sizeof p->joints);
     p->num_shape = b->num_shape == SIM_MAIN_SHAPE ? b->num_shape : 0;
     p->num_pose = b->num_pose == SIM_MAIN_POSE ? b->num_pose : 0;
-    memcpy(p->shape, b->shape, (size_t)p->num_shape * sizeof *p->shape);
-    memcpy(p->pose, b->pose, (size_t)p->num_pose * sizeof *p->pose);
+    if (p->num_shape) /* LCM decodes an empty array as NULL */
+        memcpy(p->shape, b->shape, sizeof p->shape);
+    if (p->num_pose)
+        memcpy(p->pose, b->pose, sizeof p->pose);
     p->have = 1;
 }
 
