@@ -1,6 +1,6 @@
 /* From a CONTROL request to a garment: the names the mirror offers mapped onto what the sim can
- * make today (the generated shirt, OBJ files) and the fabric presets. Sewing-pattern garments
- * and the fabric library join here when they land. */
+ * make today (the generated shirt, OBJ files, sewing patterns: made by outfit_pattern.c) and the
+ * fabric presets. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
