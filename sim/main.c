@@ -6,11 +6,16 @@
 #include <string.h>
 
 #include "body_intake.h"
+#include "bodyfit.h"
 #include "bus.h"
+#include "garments.h"
+#include "outfit_pattern.h"
 #include "sim.h"
 
 #define SIM_MAIN_TRIANGLES_EVERY 30 /* resend the garment's triangles once a second at 30 fps */
 #define SIM_MAIN_JOINTS          21 /* bodyfit's FIT_JOINT_COUNT */
+#define SIM_MAIN_SHAPE           FIT_SHAPE_PARAMS
+#define SIM_MAIN_POSE            FIT_POSE_PARAMS
 /* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
  * body: one made on a body that cannot carry it never recovers. */
 #define SIM_MAIN_DIVERGED_REBUILD 30
@@ -32,12 +37,15 @@ typedef struct pending_body {
     float *xyz; /* [nv][3] */
     int has_joints;
     float joints[SIM_MAIN_JOINTS * 3];
+    int num_shape, num_pose; /* the body model's parameters, for dressing a pattern */
+    float shape[SIM_MAIN_SHAPE], pose[SIM_MAIN_POSE];
 } pending_body;
 
 typedef struct app {
     lcm_t *lcm;
     sim_desc desc;
     const char *garment_path, *fabric;
+    int size; /* --size: S, M, L = 0, 1, 2 */
     int verts, frames_wanted, frames_done, skipped, triangles_every;
     float hem_m;    /* the generated shirt's hem below the pelvis joint (0: sim_garment_shirt's) */
     int every_body; /* --queue all: simulate every body; else only the newest one */
@@ -89,9 +97,18 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
 {
     sim_garment g = {0};
     sim_reject why = {0};
-    int r = sim_outfit_make(&a->outfit, b->xyz, b->nv, topo->tris, topo->nt,
-                            b->has_joints ? b->joints : NULL, a->verts, &g, &why);
-    a->fatal = r < 0 && a->outfit.is_file;
+    sim_pattern_stats ps = {0};
+    int r = a->outfit.is_pattern
+                ? sim_outfit_make_pattern(&a->outfit, b->shape, b->num_shape, b->pose, b->num_pose,
+                                          &g, &ps, &why)
+                : sim_outfit_make(&a->outfit, b->xyz, b->nv, topo->tris, topo->nt,
+                                  b->has_joints ? b->joints : NULL, a->verts, &g, &why);
+    a->fatal = r < 0 && a->outfit.is_file && (!a->outfit.is_pattern || r == -SIM_ERR_FILE);
+    if (r == 0 && a->outfit.is_pattern)
+        fprintf(stderr,
+                "tryon-sim: pattern %s dressed on body %d's model in %.0f ms (%.0f ms in all), "
+                "seams %.1f mm, %d vertices inside\n",
+                a->outfit.id, b->seq, ps.dress_ms, ps.total_ms, ps.seam_gap_mm, ps.penetrating);
     if (r < 0) {
         fprintf(stderr, "tryon-sim: garment %s on body %d: %s: %s%s\n", a->outfit.garment, b->seq,
                 sim_error_name(why.code), why.detail,
@@ -112,6 +129,14 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     if (!a->sim) {
         fprintf(stderr, "tryon-sim: body %d: %s: %s; body refused\n", b->seq,
                 sim_error_name(why.code), why.detail);
+        return -1;
+    }
+    if (a->outfit.is_pattern &&
+        sim_pattern_settle(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &why) < 0) {
+        fprintf(stderr, "tryon-sim: body %d: settling the pattern: %s; body refused\n", b->seq,
+                why.detail);
+        sim_destroy(a->sim);
+        a->sim = NULL;
         return -1;
     }
     free(a->xyz);
@@ -222,6 +247,12 @@ static void on_body(const char *channel, const void *m, void *user)
     p->has_joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3;
     if (p->has_joints)
         memcpy(p->joints, b->joints, sizeof p->joints);
+    p->num_shape = b->num_shape == SIM_MAIN_SHAPE ? b->num_shape : 0;
+    p->num_pose = b->num_pose == SIM_MAIN_POSE ? b->num_pose : 0;
+    if (p->num_shape) /* LCM decodes an empty array as NULL */
+        memcpy(p->shape, b->shape, sizeof p->shape);
+    if (p->num_pose)
+        memcpy(p->pose, b->pose, sizeof p->pose);
     p->have = 1;
 }
 
@@ -331,6 +362,7 @@ static int usage(FILE *f, int rc)
 {
     fprintf(f,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
+            "                 [--size S|M|L]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
             "                 [--stats FILE]\n"
@@ -347,7 +379,11 @@ static int usage(FILE *f, int rc)
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
-            "  CONTROL messages switch the garment (shirt, tunic, FILE.obj), size and fabric\n"
+            "  --garment FILE.json: a sewing pattern (garments/patterns), dressed on the body\n"
+            "          model of the first body's shape and pose; needs BODY's shape and pose\n"
+            "  --size S|M|L: the garment's size (default M)\n"
+            "  CONTROL messages switch the garment (shirt, tunic, FILE.obj, FILE.json), size and\n"
+            "          fabric\n"
             "          on the next body (docs/mirror.md)\n"
             "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
             "          attachments given to the whole garment each frame; < 0: world frame\n");
@@ -359,6 +395,7 @@ static int parse(app *a, int argc, char **argv)
     a->desc = sim_default_desc();
     a->backend_auto = 1; /* the product runs on the GPU where there is one (auto_backend) */
     a->verts = 7000;
+    a->size = SIM_SIZE_M;
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -376,6 +413,8 @@ static int parse(app *a, int argc, char **argv)
             a->desc.solver = !strcmp(v, "seed") ? SIM_SOLVER_SEED : SIM_SOLVER_TRYON;
         else if (!strcmp(o, "--garment"))
             a->garment_path = v;
+        else if (!strcmp(o, "--size") && gar_size_from_name(v) >= 0)
+            a->size = gar_size_from_name(v);
         else if (!strcmp(o, "--fabric"))
             a->fabric = v;
         else if (!strcmp(o, "--verts"))
@@ -403,7 +442,7 @@ static int parse(app *a, int argc, char **argv)
         i++;
     }
     sim_reject why;
-    if (sim_outfit_resolve(a->garment_path ? a->garment_path : "shirt", SIM_SIZE_M,
+    if (sim_outfit_resolve(a->garment_path ? a->garment_path : "shirt", a->size,
                            a->fabric ? a->fabric : "", &a->outfit, &why) < 0) {
         fprintf(stderr, "tryon-sim: %s\n", why.detail);
         return -1;

@@ -1,6 +1,6 @@
 /* From a CONTROL request to a garment: the names the mirror offers mapped onto what the sim can
- * make today (the generated shirt, OBJ files) and the fabric presets. Sewing-pattern garments
- * and the fabric library join here when they land. */
+ * make today (the generated shirt, OBJ files, sewing patterns: made by outfit_pattern.c) and the
+ * fabric presets. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -60,7 +60,8 @@ int sim_outfit_resolve(const char *garment, int size, const char *fabric, sim_ou
     out->size = (sim_size)size;
     out->offset_m = size_offset_m[size];
     out->scale = size_scale[size];
-    out->is_file = ends_with(garment, ".obj");
+    out->is_pattern = ends_with(garment, ".json");
+    out->is_file = ends_with(garment, ".obj") || out->is_pattern;
     int known = out->is_file;
     for (int i = 0; i < COUNT(garments) && !known; i++)
         if (strcmp(garment, garments[i].name) == 0) {
@@ -68,8 +69,8 @@ int sim_outfit_resolve(const char *garment, int size, const char *fabric, sim_ou
             known = 1;
         }
     if (!known)
-        return sim_reject_set(why, SIM_ERR_PARAM, "garment '%.60s': not shirt, tunic or a .obj",
-                              garment);
+        return sim_reject_set(why, SIM_ERR_PARAM,
+                              "garment '%.60s': not shirt, tunic, a .obj or a .json", garment);
     const char *fname = fabric && *fabric ? fabric : "cotton";
     int fi = -1;
     for (int i = 0; i < COUNT(fabrics); i++)
@@ -113,6 +114,9 @@ int sim_outfit_make(const sim_outfit *o, const float *body_xyz, int nv, const in
                     sim_reject *why)
 {
     int r;
+    if (o->is_pattern) /* needs the body model and garments/: the caller's library */
+        return sim_reject_set(why, SIM_ERR_ARG, "%.80s: a pattern (sim_outfit_make_pattern)",
+                              o->garment);
     if (o->is_file) {
         r = sim_garment_load_obj(o->garment, out, why);
         if (r == 0 && o->scale != 1.0f)

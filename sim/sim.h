@@ -215,12 +215,14 @@ int sim_set_state(sim *s, const float *xyz, const float *vel, sim_reject *why);
 
 /* What a CONTROL request asks the sim to wear (sim/outfit.c, docs/mirror.md): a generated
  * garment by name ("shirt": hem at the hips; "tunic": hem over the thighs) or a garment file
- * (a name ending in ".obj"); a size S/M/L (the shirt's ease over the body; a file garment scaled
- * around its vertical axis); a fabric preset by name ("" = cotton). */
+ * (a name ending in ".obj") or a sewing pattern (".json", dressed on the body model); a size S/M/L
+ * (the shirt's ease over the body; a file garment scaled around its vertical axis); a fabric preset
+ * by name ("" = cotton). */
 typedef enum sim_size { SIM_SIZE_S = 0, SIM_SIZE_M = 1, SIM_SIZE_L = 2 } sim_size;
 typedef struct sim_outfit {
     char garment[256]; /* as requested */
     int is_file;
+    int is_pattern; /* a sewing pattern (".json"): sim_outfit_make_pattern (outfit_pattern.h) */
     sim_size size;
     float offset_m; /* generated garments: ease over the body */
     float hem_m;    /* generated garments: hem below the pelvis joint */
