@@ -32,6 +32,7 @@ static void on_signal(int sig)
 typedef struct pending_body {
     int have;
     int32_t seq, topology_id;
+    int8_t state; /* BODY's tracking state: the fitter's shape is final once TRACKING */
     int64_t utime_capture, received;
     int nv, cap;
     float *xyz; /* [nv][3] */
@@ -59,6 +60,7 @@ typedef struct app {
     uint32_t garment_gen; /* the list (sim_topology.gen) the garment was made on */
     int refused;          /* bodies refused: unknown topology, too large, or no garment on them */
     int diverged_run;     /* bodies in a row on which the garment diverged */
+    int made_on_init;     /* the garment was made on an INIT body (shape still estimated) */
     int fatal;            /* an error no body can fix (the garment file): exit 1 */
     float *xyz;           /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
@@ -148,6 +150,7 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     }
     a->garment_gen = topo->gen;
     a->diverged_run = 0;
+    a->made_on_init = b->state == TRYON_BODY_T_STATE_INIT;
     a->topology++;
     a->tris_due = 1;
     fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s\n", a->garment_id,
@@ -242,6 +245,7 @@ static void on_body(const char *channel, const void *m, void *user)
     p->nv = nv;
     p->seq = b->seq;
     p->topology_id = b->topology_id;
+    p->state = b->state;
     p->utime_capture = b->utime_capture;
     p->received = received;
     p->has_joints = b->num_joint_coords == SIM_MAIN_JOINTS * 3;
@@ -320,6 +324,13 @@ static void step_body(app *a)
                 "tryon-sim: body %d: topology %d is not the garment's body; the garment is "
                 "made again\n",
                 b->seq, b->topology_id);
+        drop_sim(a);
+    }
+    if (a->sim && a->made_on_init && b->state == TRYON_BODY_T_STATE_TRACKING) {
+        fprintf(stderr,
+                "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
+                "garment is made again on it\n",
+                b->seq);
         drop_sim(a);
     }
     if (!a->sim && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
