@@ -1,7 +1,7 @@
 /* tryon-sim as its own process, fed BODY over udpm on loopback (a private port and channel
  * prefix): it publishes CLOTH and TIMING per frame, survives a malformed BODY (the bus drops it)
- * and a body the sim rejects (it skips the frame), collapses a burst to the newest body, and
- * exits cleanly on SIGTERM. */
+ * and a body the sim rejects (it skips the frame), collapses a burst to the newest body, makes a
+ * garment made on an INIT body again once the body is TRACKING, and exits cleanly on SIGTERM. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -20,6 +20,7 @@
 
 typedef struct counts {
     int cloth, timing, cloth_with_tris, nv, last_seq;
+    int topology, garments; /* the last CLOTH's topology_id, and how many ids were seen */
 } counts;
 
 static void on_cloth(const char *ch, const void *m, void *user)
@@ -31,6 +32,8 @@ static void on_cloth(const char *ch, const void *m, void *user)
     n->cloth_with_tris += c->num_triangle_indices > 0;
     n->nv = c->num_vertex_coords / 3;
     n->last_seq = c->seq;
+    n->garments += c->topology_id != n->topology;
+    n->topology = c->topology_id;
 }
 
 static void on_timing(const char *ch, const void *m, void *user)
@@ -40,6 +43,8 @@ static void on_timing(const char *ch, const void *m, void *user)
     if (strcmp(t->stage, "sim") == 0)
         ((counts *)user)->timing++;
 }
+
+static int8_t body_state = TRYON_BODY_T_STATE_TRACKING; /* the state of the bodies sent */
 
 static void send_body(lcm_t *lcm, const char *ch, sim_scene *sc, int seq, int degenerate)
 {
@@ -54,7 +59,7 @@ static void send_body(lcm_t *lcm, const char *ch, sim_scene *sc, int seq, int de
         t[1] = t[0]; /* valid on the wire, refused by the sim */
     tryon_body_t b = {.utime_capture = bus_now_wall_us(),
                       .seq = seq,
-                      .state = 1,
+                      .state = body_state,
                       .topology_id = 1,
                       .num_vertex_coords = nv * 3,
                       .vertices = (float *)xyz,
@@ -260,6 +265,50 @@ static void test_sim_process_stats_file(void **state)
     free(log);
 }
 
+/* bodyfit publishes INIT while it estimates the shape: the garment made on such a body is made
+ * again, once, on the first TRACKING body (a new topology id), and not on later bodies. */
+static void test_sim_process_redress_when_tracking(void **state)
+{
+    (void)state;
+    session s;
+    body_state = TRYON_BODY_T_STATE_INIT;
+    session_start(&s, "redress",
+                  (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", NULL});
+    int init_garments = s.n.garments;
+    for (int k = 0; k < 3; k++) {
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+        lcm_handle_timeout(s.lcm, 100);
+    }
+    int after_init = s.n.garments;
+    body_state = TRYON_BODY_T_STATE_TRACKING;
+    for (int k = 0; k < 4; k++) {
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+        lcm_handle_timeout(s.lcm, 100);
+    }
+    body_state = TRYON_BODY_T_STATE_INIT; /* made on a TRACKING body: never again */
+    for (int k = 0; k < 3; k++) {
+        send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+        lcm_handle_timeout(s.lcm, 100);
+    }
+    for (int k = 0; k < 50 && s.n.last_seq != s.seq - 1; k++)
+        lcm_handle_timeout(s.lcm, 100);
+    body_state = TRYON_BODY_T_STATE_TRACKING;
+    char *log;
+    int status = session_stop(&s, &log);
+    printf("# garments: %d after the first cloth, %d after INIT bodies, %d in all; log:\n%s",
+           init_garments, after_init, s.n.garments, log ? log : "(none)");
+    assert_int_equal(status, 0);
+    assert_int_equal(s.n.last_seq, s.seq - 1);
+    assert_int_equal(init_garments, 1);
+    assert_int_equal(after_init, 1); /* INIT bodies are dressed, not dressed again */
+    assert_int_equal(s.n.garments, 2);
+    assert_non_null(log);
+    const char *said = strstr(log, "init -> tracking");
+    assert_non_null(said);
+    assert_null(strstr(said + 1, "init -> tracking"));
+    free(log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -267,6 +316,7 @@ int main(void)
         cmocka_unit_test(test_sim_process_latest_body_wins),
         cmocka_unit_test(test_sim_process_auto_backend),
         cmocka_unit_test(test_sim_process_stats_file),
+        cmocka_unit_test(test_sim_process_redress_when_tracking),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
