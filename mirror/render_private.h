@@ -24,7 +24,7 @@ void mirror_cpu_mesh_free(mirror_cpu_mesh *m);
 /* How far the person must be in front of the garment to hide it at depth z, metres. */
 float mirror_occlusion_margin_m(float z);
 /* Per depth pixel, two floats: the depth the garment is tested against (0 = no reading) and the
- * shade (0..1). *buf grows as needed (*cap pixels). */
+ * shade (0..1). *buf grows as needed (*cap floats: it also holds the work's scratch). */
 int mirror_person_image(const mirror_depth *d, float **buf, int *cap);
 /* A world-space mesh with area-weighted vertex normals, one colour or the fit map. */
 int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out);
