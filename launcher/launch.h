@@ -26,6 +26,7 @@ typedef struct launch_stage {
     int restarts;
     int64_t started_us; /* monotonic */
     long log_offset;    /* where this run's output starts in the log */
+    int64_t cpu_us;     /* user + system CPU time of its runs that have ended */
 } launch_stage;
 
 /* Starts (or starts again) the stage. Children get SIGTERM if the launcher dies, so none is ever
@@ -35,7 +36,7 @@ int launch_start(launch_stage *s);
  * timeout_ms passed. */
 int launch_wait_ready(launch_stage *s, int timeout_ms);
 /* Reaps one exited stage without blocking: its index, and its status in *status (exit code, or
- * 128 + signal); -1 when none exited. */
+ * 128 + signal); -1 when none exited. The run's CPU time is added to its cpu_us. */
 int launch_reap(launch_stage *st, int n, int *status);
 /* SIGINT to every running stage, then SIGKILL to those still running after grace_ms; all reaped. */
 void launch_stop_all(launch_stage *st, int n, int grace_ms);

@@ -23,8 +23,19 @@ static void on_timing(const char *ch, const void *m, void *user)
     bus_profile_add(((session *)user)->profile, m);
 }
 
+/* Two cores for four processes: a thread that spins while it waits for work takes the core
+ * another stage needs, and a stage split over threads that then queue for the same two cores
+ * gains nothing (docs/pipeline.md, "Threads"). What the environment already says stays. */
+static void session_thread_defaults(void)
+{
+    setenv("OMP_WAIT_POLICY", "passive", 0); /* tryon-sim's OpenMP workers sleep when idle */
+    setenv("LP_NUM_THREADS", "1", 0);        /* tryon-mirror's llvmpipe: one thread */
+}
+
 int session_open(session *s)
 {
+    s->opened_us = launch_now_us();
+    session_thread_defaults();
     const char *pre = getenv("TRYON_CHANNEL_PREFIX");
     if (pre && *pre)
         snprintf(s->prefix, sizeof s->prefix, "%s", pre);
@@ -67,6 +78,8 @@ int session_open(session *s)
 void session_close(session *s)
 {
     launch_stop_all(s->st, s->n, 3000);
+    if (!s->closed_us)
+        s->closed_us = launch_now_us();
     if (s->timing_sub)
         bus_unsubscribe(s->lcm, s->timing_sub);
     s->timing_sub = NULL;
@@ -213,6 +226,12 @@ void session_summary(session *s)
 {
     printf("== latency per stage (TIMING, %s):\n", s->prefix);
     bus_profile_print(s->profile, stdout);
+    double wall_s = (double)(s->closed_us - s->opened_us) / 1e6;
+    printf("== CPU time per stage (user + system, every run; the session took %.1f s):\n", wall_s);
+    for (int i = 0; i < s->n; i++)
+        printf("  %-14s %6.2f s  %5.1f %% of one core\n", s->st[i].name,
+               (double)s->st[i].cpu_us / 1e6,
+               wall_s > 0.0 ? 100.0 * (double)s->st[i].cpu_us / 1e6 / wall_s : 0.0);
     printf("== logs: %s\n", s->dir);
     fflush(stdout);
     bus_profile_destroy(s->profile);

@@ -32,9 +32,11 @@ typedef struct session {
     int n;
     char paths[SESSION_MAX_STAGES][512];
     char args[SESSION_MAX_STAGES][8][512]; /* formatted arguments the argv point at */
+    int64_t opened_us, closed_us;          /* monotonic: the session's wall time */
 } session;
 
-/* Opens the bus (TIMING for the summary) and the log folder. Returns 0 or -1, said. */
+/* Opens the bus (TIMING for the summary) and the log folder, and sets the stages' thread
+ * defaults (session_thread_defaults). Returns 0 or -1, said. */
 int session_open(session *s);
 void session_close(session *s);
 /* Adds a stage running exe (found with launch_find) and returns it; NULL, said, if not found. */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -85,11 +86,19 @@ int launch_wait_ready(launch_stage *s, int timeout_ms)
     return -1;
 }
 
+static int64_t cpu_us(const struct rusage *ru)
+{
+    return (int64_t)(ru->ru_utime.tv_sec + ru->ru_stime.tv_sec) * 1000000 + ru->ru_utime.tv_usec +
+           ru->ru_stime.tv_usec;
+}
+
 int launch_reap(launch_stage *st, int n, int *status)
 {
     for (int i = 0; i < n; i++) {
         int w;
-        if (st[i].pid > 0 && waitpid(st[i].pid, &w, WNOHANG) == st[i].pid) {
+        struct rusage ru;
+        if (st[i].pid > 0 && wait4(st[i].pid, &w, WNOHANG, &ru) == st[i].pid) {
+            st[i].cpu_us += cpu_us(&ru);
             st[i].last_pid = st[i].pid;
             st[i].pid = 0;
             *status = WIFEXITED(w) ? WEXITSTATUS(w) : 128 + WTERMSIG(w);
@@ -122,7 +131,9 @@ void launch_stop_all(launch_stage *st, int n, int grace_ms)
             fprintf(stderr, "tryon: %s (pid %d) did not stop within %d ms: killed\n", st[i].name,
                     (int)st[i].pid, grace_ms);
             kill(st[i].pid, SIGKILL);
-            waitpid(st[i].pid, NULL, 0);
+            struct rusage ru;
+            if (wait4(st[i].pid, NULL, 0, &ru) == st[i].pid)
+                st[i].cpu_us += cpu_us(&ru);
             st[i].pid = 0;
         }
 }
