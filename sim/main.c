@@ -97,6 +97,7 @@ static void auto_backend(app *a)
  * body is tried) or a->fatal is set (the garment file is bad: no body helps). */
 static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
 {
+    int64_t t0 = bus_now_mono_us();
     sim_garment g = {0};
     sim_reject why = {0};
     sim_pattern_stats ps = {0};
@@ -153,9 +154,10 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     a->made_on_init = b->state == TRYON_BODY_T_STATE_INIT;
     a->topology++;
     a->tris_due = 1;
-    fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s\n", a->garment_id,
-            sim_vertex_count(a->sim), a->desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
-            sim_device_name(a->sim));
+    fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s, made in %.0f ms\n",
+            a->garment_id, sim_vertex_count(a->sim),
+            a->desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon", sim_device_name(a->sim),
+            (double)(bus_now_mono_us() - t0) / 1e3);
     return 0;
 }
 
