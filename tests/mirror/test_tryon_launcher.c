@@ -165,6 +165,13 @@ static void test_killed_stage_restarts_and_nothing_is_left(void **state)
     assert_non_null(strstr(log, "the recording has ended"));
     if (!strstr(log, "\"last_stage\": \"mirror\"")) /* the summary, to the end */
         fail_msg("no summary ending at the mirror:\n%s", log);
+    /* each stage's CPU time, from every run (the killed one's too): the sim made a garment */
+    const char *cpu = strstr(log, "== CPU time per stage");
+    const char *sim_cpu = cpu ? strstr(cpu, "tryon-sim") : NULL;
+    double sim_s = -1.0;
+    if (!sim_cpu || sscanf(sim_cpu, "tryon-sim %lf s", &sim_s) != 1 || !(sim_s > 0.0))
+        fail_msg("no CPU time for tryon-sim in the summary:\n%s", log);
+    assert_non_null(strstr(cpu, "tryon-truth"));
     free(log);
     bus_unsubscribe(lcm, sub);
     lcm_destroy(lcm);
