@@ -1,6 +1,8 @@
 /* tryon-bench-mirror: one frame's cost in the mirror's renderer, headless (EGL surfaceless,
  * llvmpipe with LP_NUM_THREADS=1 unless set): a person-sized depth image and a garment of about
- * 7,000 vertices, drawn at a picture size, then read back as a PNG or video writer would.
+ * 7,000 vertices, drawn at a picture size, then read back as a PNG or video writer would; the
+ * process's CPU time over the same frames (the draw's wall time on a busy machine is mostly
+ * waiting for a core), and the person's image on the CPU alone (mirror_person_image).
  * A human table, then one line of JSON. */
 #include <GLES3/gl3.h>
 #include <math.h>
@@ -10,6 +12,7 @@
 #include <time.h>
 
 #include "mirror.h"
+#include "render_private.h"
 
 #define DW 640
 #define DH 480
@@ -26,6 +29,29 @@ static int cmp(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+static double cpu_ms(void)
+{
+    return (double)clock() * 1e3 / CLOCKS_PER_SEC; /* every thread of the process */
+}
+
+/* mirror_person_image alone, frames calls: the median ms. -1: out of memory. */
+static double person_ms(const mirror_depth *d, int frames, double *t)
+{
+    float *buf = NULL;
+    int cap = 0;
+    for (int i = 0; i < frames; i++) {
+        double t0 = now_ms();
+        if (mirror_person_image(d, &buf, &cap) < 0) {
+            free(buf);
+            return -1.0;
+        }
+        t[i] = now_ms() - t0;
+    }
+    free(buf);
+    qsort(t, (size_t)frames, sizeof *t, cmp);
+    return t[frames / 2];
 }
 
 /* A standing figure 2.2 m away: an elliptic torso column and a wall behind at 3.5 m. */
@@ -85,9 +111,10 @@ int main(int argc, char **argv)
     int32_t *tris = malloc(COLS * (ROWS - 1) * 6 * sizeof *tris);
     uint8_t *rgb = malloc((size_t)w * h * 3);
     double *draw = malloc((size_t)frames * sizeof *draw),
-           *read = malloc((size_t)frames * sizeof *read);
+           *read = malloc((size_t)frames * sizeof *read),
+           *pers = malloc((size_t)frames * sizeof *pers);
     int status = 1;
-    if (!r || !px || !xyz || !tris || !rgb || !draw || !read) {
+    if (!r || !px || !xyz || !tris || !rgb || !draw || !read || !pers) {
         fprintf(stderr, "tryon-bench-mirror: %s\n", r ? "out of memory" : err);
         goto done;
     }
@@ -98,7 +125,10 @@ int main(int argc, char **argv)
                       px,     0};
     mirror_mesh g = {xyz, COLS * ROWS, tris, COLS * (ROWS - 1) * 2, NULL};
     mirror_view v = {.depth = &d, .garment = &g, .overlay_text = "FPS 30.0\nSIM 20.0 MS\nGARMENT"};
+    double cpu0 = 0.0;
     for (int i = -5; i < frames; i++) { /* five to warm up */
+        if (i == 0)
+            cpu0 = cpu_ms();
         double t0 = now_ms();
         if (mirror_render(r, &v, err, sizeof err) < 0) {
             fprintf(stderr, "tryon-bench-mirror: %s\n", err);
@@ -113,6 +143,12 @@ int main(int argc, char **argv)
             read[i] = t2 - t1;
         }
     }
+    double cpu = (cpu_ms() - cpu0) / frames;
+    double person = person_ms(&d, frames, pers);
+    if (person < 0.0) {
+        fprintf(stderr, "tryon-bench-mirror: out of memory for the person's image\n");
+        goto done;
+    }
     qsort(draw, (size_t)frames, sizeof *draw, cmp);
     qsort(read, (size_t)frames, sizeof *read, cmp);
     int p95 = (int)(0.95 * (frames - 1));
@@ -121,11 +157,13 @@ int main(int argc, char **argv)
            "read p95");
     printf("%4dx%-5d %8.2f ms %7.2f ms %7.2f ms %7.2f ms\n", w, h, draw[frames / 2], draw[p95],
            read[frames / 2], read[p95]);
+    printf("CPU %.2f ms a frame drawn and read (every thread); the person's image alone %.2f ms\n",
+           cpu, person);
     printf("{\"width\": %d, \"height\": %d, \"frames\": %d, \"ms_median\": %.3f, \"ms_p95\": %.3f, "
            "\"read_ms_median\": %.3f, \"read_ms_p95\": %.3f, \"verts\": %d, \"device\": \"%s\", "
-           "\"lp_num_threads\": \"%s\"}\n",
+           "\"lp_num_threads\": \"%s\", \"cpu_ms_per_frame\": %.3f, \"person_ms_median\": %.3f}\n",
            w, h, frames, draw[frames / 2], draw[p95], read[frames / 2], read[p95], COLS * ROWS,
-           device, getenv("LP_NUM_THREADS"));
+           device, getenv("LP_NUM_THREADS"), cpu, person);
     status = 0;
 done:
     free(px);
@@ -134,6 +172,7 @@ done:
     free(rgb);
     free(draw);
     free(read);
+    free(pers);
     mirror_renderer_destroy(r);
     mirror_gl_destroy(gl);
     return status;
