@@ -60,7 +60,8 @@ typedef struct app {
     uint32_t garment_gen; /* the list (sim_topology.gen) the garment was made on */
     int refused;          /* bodies refused: unknown topology, too large, or no garment on them */
     int diverged_run;     /* bodies in a row on which the garment diverged */
-    int made_on_init;     /* the garment was made on an INIT body (shape still estimated) */
+    int made_on_init;     /* the garment was made on, or has since met, an INIT body: a shape
+                             still estimated (a person entering, or entering again) */
     int fatal;            /* an error no body can fix (the garment file): exit 1 */
     float *xyz;           /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
@@ -328,6 +329,8 @@ static void step_body(app *a)
                 b->seq, b->topology_id);
         drop_sim(a);
     }
+    if (b->state == TRYON_BODY_T_STATE_INIT)
+        a->made_on_init = 1;
     if (a->sim && a->made_on_init && b->state == TRYON_BODY_T_STATE_TRACKING) {
         fprintf(stderr,
                 "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
