@@ -23,7 +23,7 @@
 #define SHIRT_ARMHOLE_M 0.08f
 /* Half-width of the armhole around the shoulder's direction seen from the torso axis, radians:
  * an upper arm is about 10 cm across on a torso of about 15 cm radius (+-20 deg), with margin. */
-#define SHIRT_ARMHOLE_HALF 0.8f
+#define SHIRT_ARMHOLE_HALF 0.6f
 
 /* bodyfit joint indices (bodyfit.h FIT_JOINT_LIST order); the sim does not link bodyfit for
  * this, it only reads the joint array a body message carries. */
@@ -217,18 +217,26 @@ static int nearest_triangle(const float *p, const float *xyz, const int32_t *tri
     return bt;
 }
 
-/* The top row hangs from the body: each vertex glued to its nearest torso triangle. */
-static int attach_top_row(sim_garment *g, int cols, const float *xyz, const int32_t *tris, int nt,
-                          const uint8_t *torso, sim_reject *why)
+/* The top row hangs from the body: each vertex of the columns outside the armholes (top_at =
+ * y_top) glued to its nearest torso triangle. The armholes' edge hangs free, as a sleeveless
+ * top's does: glued, neighbours on its slope sit at heights where the skinning blends pelvis
+ * and spine differently, and twisting the trunk moved them 43 % apart (docs/sim-history.md, "Arms
+ * down: the cause"). Returns the number of attachments, or a negative error. */
+static int attach_top_row(sim_garment *g, int cols, const shirt_frame *f, const float *xyz,
+                          const int32_t *tris, int nt, const uint8_t *torso, sim_reject *why)
 {
+    int na = 0;
     for (int c = 0; c < cols; c++) {
+        if (top_at(f, 2.0f * SHIRT_PI * (float)c / (float)cols) < f->y_top)
+            continue;
         int bt = nearest_triangle(&g->xyz[c * 3], xyz, tris, nt, torso);
         if (bt < 0)
             return sim_reject_set(why, SIM_ERR_PARAM, "shirt: no torso triangle near column %d", c);
-        g->attachments[c].vertex = c;
-        glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[c]);
+        g->attachments[na].vertex = c;
+        glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[na++]);
     }
-    return 0;
+    g->num_attachments = na;
+    return na;
 }
 
 int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const int32_t *from_tris,
@@ -313,7 +321,8 @@ int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, i
     }
     sim_garment_tube_triangles(out->triangles, cols, rows);
     snprintf(out->id, sizeof out->id, "shirt-%dx%d", cols, rows);
-    r = attach_top_row(out, cols, body_xyz, body_tris, nt, torso, why);
+    r = attach_top_row(out, cols, &f, body_xyz, body_tris, nt, torso, why);
+    r = r < 0 ? r : 0;
     free(rad);
     free(torso);
     if (r < 0)
