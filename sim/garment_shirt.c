@@ -1,6 +1,8 @@
 /* A shirt generated around a body mesh: a tube over the torso from the armpits to the hips,
  * following the torso's radial profile offset outward, its top row attached to the body (so it
- * hangs from the chest as a shirt hangs from the shoulders). The arms stay outside it. */
+ * hangs from the chest as a shirt hangs from the shoulders). The arms stay outside it: under each
+ * arm the top edge dips into an armhole (docs/sim.md, "Garments"), so that an arm lowered to the
+ * side hangs beside the cloth, not through its glued top row. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +15,15 @@
 #define SHIRT_DEFAULT_HEM_M    0.12f  /* the hem at the hips, 12 cm below the pelvis joint */
 #define SHIRT_MIN_VERTICES     200
 #define SHIRT_MAX_VERTICES     200000
+/* The armhole: under each arm the top edge is this much lower than at the chest and back. With
+ * the arms lowered to 6 degrees from vertical (bench body) the arm's inner surface comes within
+ * 6 mm of the torso at the tube's former top (shoulder joint - 0.25 m) and 11 mm 5 cm lower,
+ * nearer than the shirt stands off the skin; 8 cm lower it is 27 mm away (docs/sim-history.md,
+ * "Arms down: the cause"). */
+#define SHIRT_ARMHOLE_M 0.08f
+/* Half-width of the armhole around the shoulder's direction seen from the torso axis, radians:
+ * an upper arm is about 10 cm across on a torso of about 15 cm radius (+-20 deg), with margin. */
+#define SHIRT_ARMHOLE_HALF 0.6f
 
 /* bodyfit joint indices (bodyfit.h FIT_JOINT_LIST order); the sim does not link bodyfit for
  * this, it only reads the joint array a body message carries. */
@@ -22,6 +33,8 @@ enum { J_RELB = 11, J_RWRI = 12 };
 typedef struct shirt_frame {
     float axis[2]; /* x, z of the torso's vertical axis */
     float y_top, y_bot;
+    float arm_th[2]; /* the tube's angle of each shoulder joint (with joints) */
+    float armhole_m; /* how much lower the top edge is under the arms; 0 without joints */
 } shirt_frame;
 
 static float seg_dist2(const float *p, const float *a, const float *b)
@@ -80,10 +93,30 @@ static void classify(const float *xyz, int nv, const float *j, float hem_m, uint
         /* armpits sit about 8 cm below the shoulder joints */
         f->y_top = fminf(j[J_LSHO * 3 + 1], j[J_RSHO * 3 + 1]) - 0.25f;
         f->y_bot = j[J_PELVIS * 3 + 1] - hem_m;
+        static const int sho[2] = {J_LSHO, J_RSHO};
+        for (int k = 0; k < 2; k++)
+            f->arm_th[k] = atan2f(-(j[sho[k] * 3 + 2] - f->axis[1]), j[sho[k] * 3] - f->axis[0]);
+        f->armhole_m = SHIRT_ARMHOLE_M;
     } else {
         f->y_top = yhi - 0.25f * (yhi - ylo);
         f->y_bot = ylo + 0.2f * (yhi - ylo);
+        f->armhole_m = 0.0f;
     }
+}
+
+/* The top edge's height at tube angle th: y_top, lower by up to armhole_m under each arm (a
+ * cos^2 bump of half-width SHIRT_ARMHOLE_HALF, smooth so the glued row has no corner). */
+static float top_at(const shirt_frame *f, float th)
+{
+    float dip = 0.0f;
+    for (int k = 0; k < 2; k++) {
+        float d = remainderf(th - f->arm_th[k], 2.0f * SHIRT_PI);
+        if (fabsf(d) < SHIRT_ARMHOLE_HALF) {
+            float c = cosf(0.5f * SHIRT_PI * d / SHIRT_ARMHOLE_HALF);
+            dip = fmaxf(dip, c * c);
+        }
+    }
+    return f->y_top - f->armhole_m * dip;
 }
 
 /* Largest radius of the torso in each (row, column) bin, then dilated so that the tube clears
@@ -184,18 +217,26 @@ static int nearest_triangle(const float *p, const float *xyz, const int32_t *tri
     return bt;
 }
 
-/* The top row hangs from the body: each vertex glued to its nearest torso triangle. */
-static int attach_top_row(sim_garment *g, int cols, const float *xyz, const int32_t *tris, int nt,
-                          const uint8_t *torso, sim_reject *why)
+/* The top row hangs from the body: each vertex of the columns outside the armholes (top_at =
+ * y_top) glued to its nearest torso triangle. The armholes' edge hangs free, as a sleeveless
+ * top's does: glued, neighbours on its slope sit at heights where the skinning blends pelvis
+ * and spine differently, and twisting the trunk moved them 43 % apart (docs/sim-history.md, "Arms
+ * down: the cause"). Returns the number of attachments, or a negative error. */
+static int attach_top_row(sim_garment *g, int cols, const shirt_frame *f, const float *xyz,
+                          const int32_t *tris, int nt, const uint8_t *torso, sim_reject *why)
 {
+    int na = 0;
     for (int c = 0; c < cols; c++) {
+        if (top_at(f, 2.0f * SHIRT_PI * (float)c / (float)cols) < f->y_top)
+            continue;
         int bt = nearest_triangle(&g->xyz[c * 3], xyz, tris, nt, torso);
         if (bt < 0)
             return sim_reject_set(why, SIM_ERR_PARAM, "shirt: no torso triangle near column %d", c);
-        g->attachments[c].vertex = c;
-        glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[c]);
+        g->attachments[na].vertex = c;
+        glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[na++]);
     }
-    return 0;
+    g->num_attachments = na;
+    return na;
 }
 
 int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const int32_t *from_tris,
@@ -264,9 +305,14 @@ int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, i
     }
     radial_profile(body_xyz, nv, torso, &f, rows, cols, rad);
     for (int i = 0; i < rows; i++) {
-        float y = f.y_top - height * (float)i / (float)(rows - 1);
         for (int c = 0; c < cols; c++) {
-            float th = 2.0f * SHIRT_PI * (float)c / (float)cols, rr = rad[i * cols + c] + offset_m;
+            /* each column from its own top (the armholes) down to the hem; the radius is the
+               profile's at that height */
+            float th = 2.0f * SHIRT_PI * (float)c / (float)cols, top = top_at(&f, th);
+            float y = top - (top - f.y_bot) * (float)i / (float)(rows - 1);
+            int row = (int)lroundf((f.y_top - y) / height * (float)(rows - 1));
+            row = row < 0 ? 0 : (row >= rows ? rows - 1 : row);
+            float rr = rad[row * cols + c] + offset_m;
             float *p = &out->xyz[(i * cols + c) * 3];
             p[0] = f.axis[0] + rr * cosf(th);
             p[1] = y;
@@ -275,7 +321,8 @@ int sim_garment_shirt(const float *body_xyz, int nv, const int32_t *body_tris, i
     }
     sim_garment_tube_triangles(out->triangles, cols, rows);
     snprintf(out->id, sizeof out->id, "shirt-%dx%d", cols, rows);
-    r = attach_top_row(out, cols, body_xyz, body_tris, nt, torso, why);
+    r = attach_top_row(out, cols, &f, body_xyz, body_tris, nt, torso, why);
+    r = r < 0 ? r : 0;
     free(rad);
     free(torso);
     if (r < 0)

@@ -11,6 +11,10 @@
 
 #define SCENE_PI      3.14159265358979f
 #define SCENE_BLEND_S 0.5 /* "all": each segment crossfades from the last over this long */
+/* A clip's scene first turns the body from the model's A-pose into the clip's first pose over
+   this long: the shirt is made on the scene's first frame, and made on a clip's (arms at the
+   sides) the tube ran through both arms (docs/sim-history.md, "Arms down: the clips") */
+#define SCENE_CLIP_IN_S 1.0
 
 struct sim_scene {
     int nv, nt;
@@ -228,13 +232,30 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     return sc;
 }
 
+/* A clip's pose at t_s: SCENE_CLIP_IN_S from the A-pose (rotations 0) at the clip's first root
+ * position into its first pose (a smoothstep), then the clip. */
+static void clip_pose(const fit_clip *clip, double t_s, fit_pose *pose)
+{
+    double t = isfinite(t_s) ? fmod(t_s, SCENE_CLIP_IN_S + fit_clip_duration(clip)) : 0.0;
+    t = t < 0.0 ? 0.0 : t;
+    if (t >= SCENE_CLIP_IN_S) {
+        fit_clip_eval(clip, t - SCENE_CLIP_IN_S, pose);
+        return;
+    }
+    fit_clip_eval(clip, 0.0, pose);
+    double u = t / SCENE_CLIP_IN_S, w = u * u * (3.0 - 2.0 * u);
+    for (int j = 0; j < FIT_JOINT_COUNT; j++) /* rotation vectors, from 0 */
+        for (int k = 0; k < 3; k++)
+            pose->rot[j][k] = (float)(w * pose->rot[j][k]);
+}
+
 int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
                    int *nt, const float **joints)
 {
     if (sc->kind == 1) {
         fit_pose pose;
         if (sc->clip)
-            fit_clip_eval(sc->clip, t_s, &pose);
+            clip_pose(sc->clip, t_s, &pose);
         else if (sc->motion >= 0)
             fit_motion_eval((fit_motion)sc->motion, t_s, &pose);
         else
@@ -256,7 +277,7 @@ double sim_scene_duration(const sim_scene *sc)
     if (sc->kind != 1)
         return 1e9;
     if (sc->clip)
-        return fit_clip_duration(sc->clip);
+        return SCENE_CLIP_IN_S + fit_clip_duration(sc->clip);
     if (sc->motion >= 0)
         return fit_motion_duration((fit_motion)sc->motion);
     return all_duration();

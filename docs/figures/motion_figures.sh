@@ -4,7 +4,8 @@
 # assimp-testmodels, 7,000 vertices, 25 iterations, C backend; each run's final JSON line is kept
 # in $OUT/motion.jsonl and a table of the figures the issue asks for is printed.
 # usage: docs/figures/motion_figures.sh BUILD_DIR [CLIP_FRAMES|map]
-#        CLIP_FRAMES: 0 (default) = whole clips; N = their first N frames (a quick look)
+#        CLIP_FRAMES: 0 (default) = whole clips (after the scene's 1 s turn-in from the A-pose);
+#        N = their first N frames (a quick look)
 #        map: only the stability map's motion axes (arm angle: arms_down, trunk bend speed:
 #        bend_forward 1 Hz / bend_fast 0.7 s, wrist speed: fast_swing) against the time step
 #        (10, 25, 50 steps a frame) for each solver, 90 frames each, into $OUT/map.jsonl

@@ -185,11 +185,15 @@ static void test_turn_keeps_the_strain_limit(void **state)
                     simt_backend_name(bs[k]), 100.0 * max_w, 100.0 * p99_w, pen_w, settle_w,
                     retried_w);
             /* what the frame is for: the world frame needs the settle rounds (or more
-               iterations), and is still stretched more after them */
+               iterations) to hold the twist. Since the shirt's armholes (their free edge hangs at
+               about 2 % strain, at the rounds' threshold, in either frame: docs/sim-history.md,
+               "Arms down: the cause") the frame's own run takes a few rounds too (20 against 292)
+               and both end near 2 % (until then 0 rounds, and the world frame's strain over 1.5x
+               the moving frame's) */
             assert_true(settle_w > 0 || retried_w > 0);
-            assert_int_equal(settle_f, 0);
+            assert_true(10 * settle_f < settle_w);
             assert_int_equal(retried_f, 0);
-            assert_true(max_w > 1.5f * max_f);
+            assert_true(retried_w > 0);
             assert_int_equal(pen_w, 0);
         }
         assert_true(max_f < 0.02f);
