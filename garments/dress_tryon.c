@@ -54,6 +54,10 @@
 #define GAR_TRYON_SEAM_PASSES 10
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
+/* Sweeps of the constraints and the contacts a step: each sweep the strain limit takes back some
+ * of the stretch the contacts put in where the body is wider than the pattern; 3 halves the p99
+ * strain of 1 for about a third more time (docs/garments.md, "Strain"). */
+#define GAR_TRYON_ITERATIONS 3
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
 #define GAR_TRYON_LIMIT_MARGIN 0.8f
 
@@ -304,7 +308,7 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
     const gar_fabric *fab = desc && desc->fabric ? desc->fabric : gar_fabric_find("cotton");
     d->m = m, d->n = m->num_vertices;
     d->h = desc && desc->dt_s > 0 ? desc->dt_s : 0.002f;
-    d->iterations = desc && desc->iterations > 0 ? desc->iterations : 1;
+    d->iterations = desc && desc->iterations > 0 ? desc->iterations : GAR_TRYON_ITERATIONS;
     d->limit = fab->max_strain * GAR_TRYON_LIMIT_MARGIN;
     int rc = gar_springs_build(m, &d->sp);
     if (rc)

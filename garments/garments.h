@@ -173,7 +173,7 @@ typedef struct gar_dress_desc {
     int drape_steps;                 /* after the seams close; 0 = 300 */
     float map_pixel_m;               /* depth map pixel; 0 = 0.004 */
     int cloth_cloth;                 /* 1 = panel-panel repulsion on */
-    int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 1 */
+    int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 3 */
 } gar_dress_desc;
 
 /* The figures of a dressed garment (ARCHITECTURE.md "Metrics"). */
@@ -254,7 +254,7 @@ typedef struct gar_drape_desc {
     float support_d_m;               /* 0 = 0.18 */
     float spacing_m;                 /* mesh spacing; 0 = 0.01 */
     int steps;                       /* hanging steps of 2 ms; 0 = 1000 */
-    int iterations;                  /* as gar_dress_desc; 0 = 1 */
+    int iterations;                  /* as gar_dress_desc; 0 = its default */
 } gar_drape_desc;
 typedef struct gar_drape_result {
     float coefficient; /* (shadow - support) / (specimen - support): 1 flat, 0 straight down */

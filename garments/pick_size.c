@@ -78,23 +78,23 @@ int gar_pick_size(const char *path, const struct fit_model *body, const gar_mesh
     for (int s = GAR_SIZE_S; s <= GAR_SIZE_L && pick < 0; s++)
         if (out->tight[s] <= out->limit)
             pick = s;
-    if (pick >= 0) {
+    int fits = pick >= 0;
+    for (int s = GAR_SIZE_S; s <= GAR_SIZE_L && !fits; s++)
+        if (pick < 0 || out->tight[s] < out->tight[pick])
+            pick = s;
+    const char *names = "SML", *where = gar_region_name((gar_region)out->tight_region[pick]);
+    float limit_pc = 100 * out->limit, tight_pc = 100 * out->tight[pick];
+    if (fits)
         snprintf(out->reason, sizeof out->reason,
                  "%c: the smallest size whose every region stretches at most %.1f %% (p95; "
                  "tightest %s %.1f %%, median gap %.0f mm)",
-                 "SML"[pick], 100 * out -> limit, gar_region_name(out->tight_region[pick]),
-                 100 * out -> tight[pick], out -> loose_mm[pick]);
-    } else {
-        pick = GAR_SIZE_S;
-        for (int s = GAR_SIZE_M; s <= GAR_SIZE_L; s++)
-            if (out->tight[s] < out->tight[pick])
-                pick = s;
-        snprintf(out->reason, sizeof out->reason,
-                 "%c: every size stretches more than %.1f %% somewhere; %c least (%s %.1f %%): "
-                 "the body needs a size above L",
-                 "SML"[pick], 100 * out -> limit, "SML"[pick],
-                 gar_region_name(out->tight_region[pick]), 100 * out -> tight[pick]);
-    }
+                 names[pick], limit_pc, where, tight_pc, out->loose_mm[pick]);
+    else
+        snprintf(
+            out->reason, sizeof out->reason,
+            "%c: every size stretches more than %.1f %% somewhere, %c the least (%s %.1f %%)%s",
+            names[pick], limit_pc, names[pick], where, tight_pc,
+            pick == GAR_SIZE_L ? ": the body may need a size above L" : "");
     out->size = (gar_size)pick;
     return 0;
 }
