@@ -140,11 +140,13 @@ def tshirt():
 
 
 def dress():
-    front = Panel([(-32, 0), (32, 0), (26.5, 45), (24.5, 57), (28, 73), (22.5, 92.5),
-                   (8, 96), (-8, 96), (-22.5, 92.5), (-28, 73), (-24.5, 57), (-26.5, 45)],
+    # Sleeveless: the armhole cut in to a 7 cm shoulder, clear of the deltoid (where a wider
+    # shoulder's corner stretched 40 %), and down to 2 cm under the armpit.
+    front = Panel([(-32, 0), (32, 0), (26.5, 45), (24.5, 57), (28, 70), (15, 95),
+                   (8, 96), (-8, 96), (-15, 95), (-28, 70), (-24.5, 57), (-26.5, 45)],
                   [("hem", ("c", 200, 0, 1)), ("side_r0", None), ("side_r1", None),
-                   ("side_r2", None), ("arm_r", ("q", (23, 79))), ("shoulder_r", None),
-                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-23, 79))),
+                   ("side_r2", None), ("arm_r", ("q", (17, 76))), ("shoulder_r", None),
+                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-17, 76))),
                    ("side_l2", None), ("side_l1", None), ("side_l0", None)])
     back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 92)))] + front.edges[7:])
     back = back.mirrored()
