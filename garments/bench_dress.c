@@ -25,6 +25,8 @@ static void usage(FILE *f)
                "  --obj PREFIX           write PREFIX<n>.obj, the dressed garment of pattern n\n"
                "  --drape                no patterns: the Cusick drape test of each fabric (or\n"
                "                         of --fabric's), a 0.30 m disc on a 0.18 m support\n"
+               "  --stability            the map of seam stiffness x time step of --method on\n"
+               "                         each pattern (outcome, seam gap, penetrations)\n"
                "  --pick-size            dress sizes S, M and L of each pattern on the body\n"
                "                         (--shape), report the fit per region, pick a size\n"
                "  --help                 this text\n");
@@ -35,7 +37,7 @@ typedef struct options {
     gar_size size;
     const gar_fabric *fabric;
     float spacing;
-    int shape, cloth_cloth, iterations, drape, pick_size, fabric_given;
+    int shape, cloth_cloth, iterations, drape, pick_size, fabric_given, stability;
 } options;
 
 static int need(int i, int argc, const char *opt)
@@ -57,8 +59,10 @@ static int parse(int argc, char **argv, options *o)
             usage(stdout);
             return 0;
         }
-        if (!strcmp(a, "--drape") || !strcmp(a, "--pick-size")) {
-            *(!strcmp(a, "--drape") ? &o->drape : &o->pick_size) = 1;
+        if (!strcmp(a, "--drape") || !strcmp(a, "--pick-size") || !strcmp(a, "--stability")) {
+            *(!strcmp(a, "--drape")       ? &o->drape
+              : !strcmp(a, "--pick-size") ? &o->pick_size
+                                          : &o->stability) = 1;
             continue;
         }
         if (!strcmp(a, "--method") || !strcmp(a, "--collision") || !strcmp(a, "--size") ||
@@ -133,8 +137,9 @@ static int parse(int argc, char **argv, options *o)
                 o->method, o->collision);
         return -1;
     }
-    if (o->drape && (i < argc || o->pick_size)) {
-        fprintf(stderr, "tryon-bench-dress: --drape takes no PATTERN.json nor --pick-size\n");
+    if (o->drape + o->pick_size + o->stability > 1 || (o->drape && i < argc)) {
+        fprintf(stderr, "tryon-bench-dress: one of --drape (no PATTERN.json), --pick-size and "
+                        "--stability\n");
         return -1;
     }
     if (o->drape)
@@ -194,7 +199,7 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
 
 int main(int argc, char **argv)
 {
-    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0};
+    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0};
     o.fabric = gar_fabric_find("cotton");
     int first = parse(argc, argv, &o);
     if (first <= 0)
@@ -215,6 +220,16 @@ int main(int argc, char **argv)
     if (!st || !verts || !ok) {
         fprintf(stderr, "tryon-bench-dress: out of memory\n");
         return 1;
+    }
+    if (o.stability) {
+        gar_dress_desc dd = {
+            .fabric = o.fabric, .cloth_cloth = o.cloth_cloth, .iterations = o.iterations};
+        for (int i = 0; i < n; i++)
+            failed += bench_stability(argv[first + i], body, !strcmp(o.method, "tryon"),
+                                      &(gar_mesh_desc){.spacing_m = o.spacing}, &dd);
+        free(st), free(verts), free(ok);
+        fit_model_destroy(body);
+        return failed ? 1 : 0;
     }
     if (o.pick_size) {
         gar_dress_desc dd = {

@@ -12,5 +12,8 @@ int bench_drape(const gar_fabric *only, int iterations);
 struct fit_model;
 int bench_pick_size(const char *path, const struct fit_model *body, int shape,
                     const gar_mesh_desc *md, const gar_dress_desc *dd);
+/* --stability: the map of seam stiffness x time step for the pattern at path; exit status. */
+int bench_stability(const char *path, const struct fit_model *body, int tryon,
+                    const gar_mesh_desc *md, const gar_dress_desc *base);
 
 #endif

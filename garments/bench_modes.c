@@ -1,5 +1,6 @@
 /* tryon-bench-dress --drape (docs/garments.md, "Drape test"): each fabric preset's Cusick drape
  * coefficient against the band measured on real fabrics of its kind. */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -84,4 +85,85 @@ int bench_pick_size(const char *path, const struct fit_model *body, int shape,
                pk.stats[s].penetrating, pk.stats[s].ms);
     printf("}\n");
     return 0;
+}
+
+/* What became of one dressing: it blew up (a coordinate not finite or beyond 3 m, or a spring
+ * stretched over 5 times), left a seam open (> 2 mm) or closed. */
+static const char *outcome(const gar_mesh *m, const gar_dress_stats *st)
+{
+    for (int i = 0; i < 3 * m->num_vertices; i++)
+        if (!isfinite(m->xyz[i]) || fabsf(m->xyz[i]) > 3.0f)
+            return "blew";
+    if (!(st->max_strain < 5.0f))
+        return "blew";
+    return st->seam_gap_mm > 2.0f ? "open" : "ok";
+}
+
+static int stability_cell(const char *path, const struct fit_model *body, int tryon,
+                          const gar_mesh_desc *md, gar_dress_desc *dd, const char **what,
+                          gar_dress_stats *st)
+{
+    gar_pattern p;
+    gar_mesh m = {0};
+    gar_reject why = {0};
+    int rc = gar_pattern_load(path, &p, &why);
+    if (!rc)
+        rc = gar_mesh_build(&p, md, &m, &why);
+    if (!rc)
+        rc = gar_mesh_place(&p, &m, body, NULL, NULL, NULL, &why);
+    if (!rc)
+        rc = tryon ? gar_dress_tryon(&p, &m, body, dd, st, &why)
+                   : gar_dress_seed(&p, &m, body, dd, st, &why);
+    if (rc)
+        fprintf(stderr, "tryon-bench-dress: --stability %s: %s\n", path, why.detail);
+    else
+        *what = outcome(&m, st);
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
+    return rc;
+}
+
+int bench_stability(const char *path, const struct fit_model *body, int tryon,
+                    const gar_mesh_desc *md, const gar_dress_desc *base)
+{
+    /* seam stiffness (times the fabric's stretch stiffness; tryon's 0: hard seams) x step */
+    enum { NG = 5, NS = 4 };
+    static const float gains[NG] = {0, 0.1f, 1, 10, 100};
+    static const float steps_ms[NS] = {0.5f, 1, 2, 4};
+    const char *what[NG][NS] = {{0}};
+    gar_dress_stats st[NG][NS];
+    memset(st, 0, sizeof st);
+    printf("== %s, method %s: seam gain x step (ms); cell: outcome, seam gap mm, penetrating\n"
+           "%-6s",
+           path, tryon ? "tryon" : "seed", "gain");
+    for (int j = 0; j < NS; j++)
+        printf(" %18.1f", steps_ms[j]);
+    printf("\n");
+    int failed = 0;
+    for (int i = tryon ? 0 : 1; i < NG; i++) {
+        if (gains[i] > 0)
+            printf("%-6g", gains[i]);
+        else
+            printf("%-6s", "hard");
+        for (int j = 0; j < NS; j++) {
+            gar_dress_desc dd = *base;
+            dd.seam_gain = gains[i], dd.dt_s = steps_ms[j] * 1e-3f;
+            what[i][j] = "error";
+            failed |= stability_cell(path, body, tryon, md, &dd, &what[i][j], &st[i][j]);
+            if (strcmp(what[i][j], "blew"))
+                printf(" %6s %6.1f %4d", what[i][j], st[i][j].seam_gap_mm, st[i][j].penetrating);
+            else /* the figures of a garment that blew up mean nothing */
+                printf(" %6s %6s %4s", what[i][j], "-", "-");
+            fflush(stdout);
+        }
+        printf("\n");
+    }
+    for (int i = tryon ? 0 : 1; i < NG; i++)
+        for (int j = 0; j < NS; j++)
+            printf("{\"pattern\": \"%s\", \"method\": \"%s\", \"seam_gain\": %g, \"dt_ms\": %g, "
+                   "\"outcome\": \"%s\", \"seam_gap_mm\": %.2f, \"penetrating\": %d, "
+                   "\"max_strain\": %.3f, \"ms\": %.0f}\n",
+                   path, tryon ? "tryon" : "seed", gains[i], steps_ms[j], what[i][j],
+                   st[i][j].seam_gap_mm, st[i][j].penetrating, st[i][j].max_strain, st[i][j].ms);
+    return failed;
 }

@@ -73,8 +73,9 @@ typedef struct tdress {
     uint8_t *kind;
     int ncol, nstretch_col;
     float alpha[SIM_SPRING_KINDS], limit, h;
-    int iterations; /* sweeps of constraints and contacts a step */
-    float *gap0;    /* per joint, the gap at the start */
+    int iterations;   /* sweeps of constraints and contacts a step */
+    float seam_alpha; /* the seams' XPBD compliance over h^2 (0 = hard) */
+    float *gap0;      /* per joint, the gap at the start */
     sim_collider *col;
     gar_cc *cc;
     uint8_t *skip;
@@ -118,7 +119,7 @@ static void project_seams(tdress *d, float shrink)
         /* the gradient is n at a, -(1 - w) n at b0 and -w n at b1 (b1 == b0: the point itself) */
         float w = jt->b1 != jt->b0 ? jt->w : 0.0f;
         float wa = d->x[jt->a][3], w0 = (1 - w) * d->x[jt->b0][3], w1 = w * d->x[jt->b1][3];
-        float wsum = wa + (1 - w) * w0 + w * w1;
+        float wsum = wa + (1 - w) * w0 + w * w1 + d->seam_alpha;
         if (len <= target || len < 1e-9f || wsum <= 0)
             continue;
         float c = (len - target) / (len * wsum); /* along g, per unit inverse mass */
@@ -309,6 +310,8 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
     d->m = m, d->n = m->num_vertices;
     d->h = desc && desc->dt_s > 0 ? desc->dt_s : 0.002f;
     d->iterations = desc && desc->iterations > 0 ? desc->iterations : GAR_TRYON_ITERATIONS;
+    if (desc && desc->seam_gain > 0)
+        d->seam_alpha = 1.0f / (desc->seam_gain * fab->stretch_n_m * d->h * d->h);
     d->limit = fab->max_strain * GAR_TRYON_LIMIT_MARGIN;
     int rc = gar_springs_build(m, &d->sp);
     if (rc)

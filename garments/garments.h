@@ -174,6 +174,10 @@ typedef struct gar_dress_desc {
     float map_pixel_m;               /* depth map pixel; 0 = 0.004 */
     int cloth_cloth;                 /* 1 = panel-panel repulsion on */
     int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 3 */
+    /* Seam stiffness as a multiple of the fabric's stretch stiffness: the seed's joint springs
+     * (0 = 1, its default), tryon's seams as XPBD constraints of that stiffness (0 = hard, its
+     * default). The stability map's axis (docs/garments.md). */
+    float seam_gain;
 } gar_dress_desc;
 
 /* The figures of a dressed garment (ARCHITECTURE.md "Metrics"). */
