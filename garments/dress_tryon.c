@@ -55,8 +55,8 @@
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
 /* Sweeps of the constraints and the contacts a step: each sweep the strain limit takes back some
- * of the stretch the contacts put in where the body is wider than the pattern; 3 halves the p99
- * strain of 1 for about a third more time (docs/garments.md, "Strain"). */
+ * of the stretch the contacts put in where the body is wider than the pattern; 3 lower the p99
+ * strain of 1 by up to 60 % for about a third more time (docs/garments.md, "Strain"). */
 #define GAR_TRYON_ITERATIONS 3
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
 #define GAR_TRYON_LIMIT_MARGIN 0.8f
