@@ -28,7 +28,8 @@ static void usage(FILE *f)
                "  --stability            the map of seam stiffness x time step of --method on\n"
                "                         each pattern (outcome, seam gap, penetrations)\n"
                "  --pick-size            dress sizes S, M and L of each pattern on the body\n"
-               "                         (--shape), report the fit per region, pick a size\n"
+               "                         (--shape; tryon's method), report the fit per region,\n"
+               "                         pick a size\n"
                "  --help                 this text\n");
 }
 
