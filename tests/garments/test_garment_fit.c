@@ -1,6 +1,6 @@
 /* The Cusick drape test (a stiff fabric drapes less than a soft one, the coefficient is a share
- * of the hanging ring), the fit per body region, and size picking (a bigger body never picks a
- * smaller size than a smaller body). */
+ * of the hanging ring), the fit per body region, size picking (a bigger body never picks a
+ * smaller size than a smaller body) and the stability map's two ends. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -110,12 +110,49 @@ static void test_bigger_body_picks_no_smaller_size(void **state)
     assert_true(broad.tight[GAR_SIZE_M] > slim.tight[GAR_SIZE_M]);
 }
 
+/* The stability map's two ends (docs/garments.md, "Stability map"): the seed's explicit springs
+ * blow up or leave the seams open with joints 100 times as stiff as its stretch springs; tryon's
+ * XPBD seams of that stiffness close at a 4 ms step. */
+static int skirt_closes(fit_model *b, int tryon, float gain, float dt_s)
+{
+    gar_pattern p;
+    gar_mesh m = {0};
+    gar_reject why = {0};
+    gar_dress_stats st;
+    assert_int_equal(gar_pattern_load(GAR_PATTERN_DIR "/skirt.json", &p, &why), 0);
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = FIT_SPACING_M}, &m, &why), 0);
+    assert_int_equal(gar_mesh_place(&p, &m, b, NULL, NULL, NULL, &why), 0);
+    gar_dress_desc d = {.seam_gain = gain, .dt_s = dt_s, .cloth_cloth = 1};
+    int rc = tryon ? gar_dress_tryon(&p, &m, b, &d, &st, &why)
+                   : gar_dress_seed(&p, &m, b, &d, &st, &why);
+    assert_int_equal(rc, 0);
+    int finite = 1;
+    for (int i = 0; i < 3 * m.num_vertices; i++)
+        finite &= isfinite(m.xyz[i]) && fabsf(m.xyz[i]) < 3.0f;
+    printf("%s, seams %g x stretch, %.1f ms: seam gap %.1f mm, max strain %.2f, %s\n",
+           tryon ? "tryon" : "seed", gain, dt_s * 1e3f, st.seam_gap_mm, st.max_strain,
+           finite ? "finite" : "blew up");
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
+    return finite && st.seam_gap_mm <= 2.0f && st.max_strain < 5.0f && st.penetrating == 0;
+}
+
+static void test_stability_ends(void **state)
+{
+    (void)state;
+    fit_model *b = body(0);
+    assert_false(skirt_closes(b, 0, 100.0f, 0.001f));
+    assert_true(skirt_closes(b, 1, 100.0f, 0.004f));
+    fit_model_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stiff_fabric_drapes_less),
         cmocka_unit_test(test_drape_refuses_bad_geometry),
         cmocka_unit_test(test_bigger_body_picks_no_smaller_size),
+        cmocka_unit_test(test_stability_ends),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
