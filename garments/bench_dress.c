@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_dress.h"
 #include "bodyfit.h"
 #include "garments.h"
 
@@ -19,7 +20,16 @@ static void usage(FILE *f)
                "  --spacing M            mesh spacing in metres (default 0.02)\n"
                "  --shape N              body shape preset 0..2 (default 0, average)\n"
                "  --cloth-cloth on|off   panel-panel repulsion (default on)\n"
+               "  --iterations N         tryon's method: constraint and contact sweeps a step\n"
+               "                         (default 3; more lowers the strain, costs time)\n"
                "  --obj PREFIX           write PREFIX<n>.obj, the dressed garment of pattern n\n"
+               "  --drape                no patterns: the Cusick drape test of each fabric (or\n"
+               "                         of --fabric's), a 0.30 m disc on a 0.18 m support\n"
+               "  --stability            the map of seam stiffness x time step of --method on\n"
+               "                         each pattern (outcome, seam gap, penetrations)\n"
+               "  --pick-size            dress sizes S, M and L of each pattern on the body\n"
+               "                         (--shape; tryon's method), report the fit per region,\n"
+               "                         pick a size\n"
                "  --help                 this text\n");
 }
 
@@ -28,7 +38,7 @@ typedef struct options {
     gar_size size;
     const gar_fabric *fabric;
     float spacing;
-    int shape, cloth_cloth;
+    int shape, cloth_cloth, iterations, drape, pick_size, fabric_given, stability;
 } options;
 
 static int need(int i, int argc, const char *opt)
@@ -50,9 +60,15 @@ static int parse(int argc, char **argv, options *o)
             usage(stdout);
             return 0;
         }
+        if (!strcmp(a, "--drape") || !strcmp(a, "--pick-size") || !strcmp(a, "--stability")) {
+            *(!strcmp(a, "--drape")       ? &o->drape
+              : !strcmp(a, "--pick-size") ? &o->pick_size
+                                          : &o->stability) = 1;
+            continue;
+        }
         if (!strcmp(a, "--method") || !strcmp(a, "--collision") || !strcmp(a, "--size") ||
             !strcmp(a, "--fabric") || !strcmp(a, "--spacing") || !strcmp(a, "--shape") ||
-            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj")) {
+            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj") || !strcmp(a, "--iterations")) {
             if (!need(i, argc, a))
                 return -1;
             const char *v = argv[++i];
@@ -75,6 +91,14 @@ static int parse(int argc, char **argv, options *o)
                     fprintf(stderr, "tryon-bench-dress: --fabric %s: unknown fabric\n", v);
                     return -1;
                 }
+                o->fabric_given = 1;
+            } else if (!strcmp(a, "--iterations")) {
+                long k = strtol(v, &end, 10);
+                if (*end || k < 1 || k > 100) {
+                    fprintf(stderr, "tryon-bench-dress: --iterations %s: not 1..100\n", v);
+                    return -1;
+                }
+                o->iterations = (int)k;
             } else if (!strcmp(a, "--spacing")) {
                 o->spacing = strtof(v, &end);
                 if (*end || !(o->spacing >= 0.005f && o->spacing <= 0.1f)) {
@@ -114,6 +138,13 @@ static int parse(int argc, char **argv, options *o)
                 o->method, o->collision);
         return -1;
     }
+    if (o->drape + o->pick_size + o->stability > 1 || (o->drape && i < argc)) {
+        fprintf(stderr, "tryon-bench-dress: one of --drape (no PATTERN.json), --pick-size and "
+                        "--stability\n");
+        return -1;
+    }
+    if (o->drape)
+        return i;
     if (i >= argc) {
         fprintf(stderr, "tryon-bench-dress: no PATTERN.json given (see --help)\n");
         return -1;
@@ -151,7 +182,8 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
     if (!rc)
         rc = gar_mesh_place(&p, &m, body, NULL, NULL, NULL, &why);
     if (!rc) {
-        gar_dress_desc d = {.fabric = o->fabric, .cloth_cloth = o->cloth_cloth};
+        gar_dress_desc d = {
+            .fabric = o->fabric, .cloth_cloth = o->cloth_cloth, .iterations = o->iterations};
         rc = !strcmp(o->method, "tryon") ? gar_dress_tryon(&p, &m, body, &d, st, &why)
                                          : gar_dress_seed(&p, &m, body, &d, st, &why);
     }
@@ -168,11 +200,13 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
 
 int main(int argc, char **argv)
 {
-    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1};
+    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0};
     o.fabric = gar_fabric_find("cotton");
     int first = parse(argc, argv, &o);
     if (first <= 0)
         return first == 0 ? 0 : 2;
+    if (o.drape)
+        return bench_drape(o.fabric_given ? o.fabric : NULL, o.iterations);
     char err[200];
     fit_model *body = fit_model_create(
         &(fit_model_desc){.shape = fit_shape_preset(o.shape), .target_vertices = 10000}, err,
@@ -187,6 +221,26 @@ int main(int argc, char **argv)
     if (!st || !verts || !ok) {
         fprintf(stderr, "tryon-bench-dress: out of memory\n");
         return 1;
+    }
+    if (o.stability) {
+        gar_dress_desc dd = {
+            .fabric = o.fabric, .cloth_cloth = o.cloth_cloth, .iterations = o.iterations};
+        for (int i = 0; i < n; i++)
+            failed += bench_stability(argv[first + i], body, !strcmp(o.method, "tryon"),
+                                      &(gar_mesh_desc){.spacing_m = o.spacing}, &dd);
+        free(st), free(verts), free(ok);
+        fit_model_destroy(body);
+        return failed ? 1 : 0;
+    }
+    if (o.pick_size) {
+        gar_dress_desc dd = {
+            .fabric = o.fabric, .cloth_cloth = o.cloth_cloth, .iterations = o.iterations};
+        for (int i = 0; i < n; i++)
+            failed += bench_pick_size(argv[first + i], body, o.shape,
+                                      &(gar_mesh_desc){.spacing_m = o.spacing}, &dd);
+        free(st), free(verts), free(ok);
+        fit_model_destroy(body);
+        return failed ? 1 : 0;
     }
     printf("%-28s %8s %8s %8s %6s %8s %8s %6s %6s %4s\n", "pattern", "ms", "seam_mm", "seamed_s",
            "pen", "max_str", "p99_str", "cross", "verts", "thr");

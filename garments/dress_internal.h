@@ -49,6 +49,19 @@ gar_body_sdf *gar_body_sdf_create(const float *xyz, int nv, const int32_t *tris,
 float gar_body_sdf_eval(const gar_body_sdf *b, const float p[3]); /* metres; +1 when far */
 void gar_body_sdf_destroy(gar_body_sdf *b);
 
+/* A body as tryon's dressing sees it: any closed triangle mesh (the body model, the drape
+ * test's support disc) and, optionally, cloth vertices held where they were placed. */
+typedef struct gar_body_mesh {
+    const float *xyz; /* [vertex][3] */
+    int num_vertices;
+    const int32_t *triangles; /* [triangle][3], counter-clockwise seen from outside */
+    int num_triangles;
+    const uint8_t *pinned; /* [cloth vertex] 1 = held (NULL = none) */
+} gar_body_mesh;
+/* tryon's dressing (dress_tryon.c) on such a body: fills st's ms, steps and seaming_s only. */
+int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_desc *desc,
+                       gar_dress_stats *st, gar_reject *why);
+
 /* A seam is closed when every joint's partners are this close (the seam gap target: 2 mm). */
 #define GAR_SEAM_CLOSED_M 0.001f
 

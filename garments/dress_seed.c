@@ -327,7 +327,7 @@ static int dress_init(dress *d, gar_mesh *m, const fit_model *body, const gar_dr
     d->k[GAR_STRETCH] = fminf(fab->stretch_n_m, kmax);
     d->k[GAR_SHEAR] = d->k[GAR_STRETCH] * fab->shear_n_m / fab->stretch_n_m;
     d->k[GAR_BEND] = d->k[GAR_STRETCH] * fab->bend_n_m / fab->stretch_n_m;
-    d->kj = d->k[GAR_STRETCH];
+    d->kj = d->k[GAR_STRETCH] * (desc && desc->seam_gain > 0 ? desc->seam_gain : 1.0f);
     rc = gar_body_maps_render(fit_model_rest_vertices(body), fit_model_vertex_count(body),
                               fit_model_triangles(body), fit_model_triangle_count(body), pixel,
                               d->maps);

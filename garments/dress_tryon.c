@@ -54,6 +54,10 @@
 #define GAR_TRYON_SEAM_PASSES 10
 /* Position-only rounds after the last step. */
 #define GAR_TRYON_SETTLE_ROUNDS 30
+/* Sweeps of the constraints and the contacts a step: each sweep the strain limit takes back some
+ * of the stretch the contacts put in where the body is wider than the pattern; 3 lower the p99
+ * strain of 1 by up to 60 % for about a third more time (docs/garments.md, "Strain"). */
+#define GAR_TRYON_ITERATIONS 3
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
 #define GAR_TRYON_LIMIT_MARGIN 0.8f
 
@@ -69,11 +73,15 @@ typedef struct tdress {
     uint8_t *kind;
     int ncol, nstretch_col;
     float alpha[SIM_SPRING_KINDS], limit, h;
-    float *gap0; /* per joint, the gap at the start */
+    int iterations;   /* sweeps of constraints and contacts a step */
+    float seam_alpha; /* the seams' XPBD compliance over h^2 (0 = hard) */
+    float *gap0;      /* per joint, the gap at the start */
     sim_collider *col;
     gar_cc *cc;
     uint8_t *skip;
-    float *xyz, *push; /* [vertex][3] scratch for cloth-cloth */
+    float *xyz, *push;     /* [vertex][3] scratch for cloth-cloth */
+    const uint8_t *pinned; /* [vertex] 1 = held where it was placed (NULL = none) */
+    float *pin_xyz;        /* [vertex][3] where */
 } tdress;
 
 static double now_ms(void)
@@ -111,7 +119,7 @@ static void project_seams(tdress *d, float shrink)
         /* the gradient is n at a, -(1 - w) n at b0 and -w n at b1 (b1 == b0: the point itself) */
         float w = jt->b1 != jt->b0 ? jt->w : 0.0f;
         float wa = d->x[jt->a][3], w0 = (1 - w) * d->x[jt->b0][3], w1 = w * d->x[jt->b1][3];
-        float wsum = wa + (1 - w) * w0 + w * w1;
+        float wsum = wa + (1 - w) * w0 + w * w1 + d->seam_alpha;
         if (len <= target || len < 1e-9f || wsum <= 0)
             continue;
         float c = (len - target) / (len * wsum); /* along g, per unit inverse mass */
@@ -180,6 +188,16 @@ static void constraints(tdress *d, float shrink)
     project_seams(d, shrink);
 }
 
+/* Pinned vertices back where they were placed, at rest. */
+static void hold_pins(tdress *d)
+{
+    for (int i = 0; d->pinned && i < d->n; i++)
+        if (d->pinned[i]) {
+            memcpy(d->x[i], d->pin_xyz + 3 * i, 3 * sizeof(float));
+            memcpy(d->xp[i], d->x[i], 3 * sizeof(float));
+        }
+}
+
 /* One small step: Verlet (damped, gravity when on), the constraints, the contacts. */
 static void step(tdress *d, int s, float shrink, float gravity, float damping_per_s)
 {
@@ -189,6 +207,13 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
     if (s % GAR_TRYON_CC_EVERY == 0)
         cloth_cloth(d);
     contacts(d, s % GAR_TRYON_CONTACT_EVERY == 0);
+    /* further sweeps of constraints and contacts (cached): the stretch that the contacts put
+     * back each sweep is what the strain limit removes next (docs/garments.md, "Strain") */
+    for (int k = 1; k < d->iterations; k++) {
+        constraints(d, shrink);
+        contacts(d, 0);
+    }
+    hold_pins(d);
 }
 
 /* Position-only rounds: the velocities x - x_prev survive (sim's post-stabilisation bracket). */
@@ -199,6 +224,7 @@ static void settle(tdress *d)
         constraints(d, 0.0f);
         sim_post_end(d->x, d->xp, 0, d->n);
         contacts(d, r == 0);
+        hold_pins(d);
     }
     /* the seams last, alternating with the contacts, then alone: a joint the contacts held open
      * closes (each side moves by half its gap, a millimetre or two, within the thickness) */
@@ -209,6 +235,7 @@ static void settle(tdress *d)
         sim_post_end(d->x, d->xp, 0, d->n);
         contacts(d, r + 1 == GAR_TRYON_SEAM_ROUNDS);
     }
+    hold_pins(d);
 }
 
 /* Greedy edge colouring, stretch springs first then the rest: a spring takes the lowest colour
@@ -270,16 +297,21 @@ static void tdress_free(tdress *d)
 {
     free(d->ends), free(d->col_start), free(d->rest), free(d->kind);
     free(d->x), free(d->xp), free(d->gap0), free(d->skip), free(d->xyz), free(d->push);
+    free(d->pin_xyz);
     gar_springs_free(&d->sp);
     sim_collider_destroy(d->col);
     gar_cc_destroy(d->cc);
 }
 
-static int tdress_init(tdress *d, gar_mesh *m, const fit_model *body, const gar_dress_desc *desc)
+static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
+                       const gar_dress_desc *desc)
 {
     const gar_fabric *fab = desc && desc->fabric ? desc->fabric : gar_fabric_find("cotton");
     d->m = m, d->n = m->num_vertices;
     d->h = desc && desc->dt_s > 0 ? desc->dt_s : 0.002f;
+    d->iterations = desc && desc->iterations > 0 ? desc->iterations : GAR_TRYON_ITERATIONS;
+    if (desc && desc->seam_gain > 0)
+        d->seam_alpha = 1.0f / (desc->seam_gain * fab->stretch_n_m * d->h * d->h);
     d->limit = fab->max_strain * GAR_TRYON_LIMIT_MARGIN;
     int rc = gar_springs_build(m, &d->sp);
     if (rc)
@@ -313,25 +345,30 @@ static int tdress_init(tdress *d, gar_mesh *m, const fit_model *body, const gar_
     if (desc && desc->cloth_cloth && !(d->cc = gar_cc_create(m, d->skip)))
         return -GAR_ERR_NO_MEMORY;
     char err[160];
-    sim_collider_desc cd = {.max_vertices = fit_model_vertex_count(body),
-                            .max_triangles = fit_model_triangle_count(body),
+    sim_collider_desc cd = {.max_vertices = body->num_vertices,
+                            .max_triangles = body->num_triangles,
                             .thickness_m = GAR_TRYON_THICKNESS_M,
                             .friction = fab->friction,
                             .max_cloth = d->n,
                             .carry_coulomb = 1};
     if (!(d->col = sim_collider_create(&cd, err, sizeof err)))
         return -GAR_ERR_NO_MEMORY;
-    if (sim_collider_set_body(d->col, fit_model_rest_vertices(body), fit_model_vertex_count(body),
-                              fit_model_triangles(body), fit_model_triangle_count(body)) < 0)
+    if (sim_collider_set_body(d->col, body->xyz, body->num_vertices, body->triangles,
+                              body->num_triangles) < 0)
         return -GAR_ERR_ARG;
+    if ((d->pinned = body->pinned)) {
+        if (!(d->pin_xyz = malloc(n * 3 * sizeof *d->pin_xyz)))
+            return -GAR_ERR_NO_MEMORY;
+        memcpy(d->pin_xyz, m->xyz, n * 3 * sizeof *d->pin_xyz);
+    }
     return 0;
 }
 
-int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
-                    const gar_dress_desc *desc, gar_dress_stats *st, gar_reject *why)
+int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_desc *desc,
+                       gar_dress_stats *st, gar_reject *why)
 {
-    if (!p || !m || !body || !st)
-        return gar_refuse(why, GAR_ERR_ARG, "dressing needs a pattern, its mesh and a body");
+    if (!m || !body || !body->xyz || !body->triangles || !st)
+        return gar_refuse(why, GAR_ERR_ARG, "dressing needs a mesh and a body");
     memset(st, 0, sizeof *st);
     double t0 = now_ms();
     tdress d = {0};
@@ -374,6 +411,19 @@ int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
     st->steps = s;
     tdress_free(&d);
     st->ms = (float)(now_ms() - t0);
+    return 0;
+}
+
+int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
+                    const gar_dress_desc *desc, gar_dress_stats *st, gar_reject *why)
+{
+    if (!p || !m || !body || !st)
+        return gar_refuse(why, GAR_ERR_ARG, "dressing needs a pattern, its mesh and a body");
+    gar_body_mesh bm = {fit_model_rest_vertices(body), fit_model_vertex_count(body),
+                        fit_model_triangles(body), fit_model_triangle_count(body), NULL};
+    int rc = gar_dress_tryon_on(m, &bm, desc, st, why);
+    if (rc)
+        return rc;
     float ms = st->ms, seaming = st->seaming_s;
     int steps = st->steps;
     rc = gar_dress_measure(m, body, st);

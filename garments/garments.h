@@ -173,6 +173,11 @@ typedef struct gar_dress_desc {
     int drape_steps;                 /* after the seams close; 0 = 300 */
     float map_pixel_m;               /* depth map pixel; 0 = 0.004 */
     int cloth_cloth;                 /* 1 = panel-panel repulsion on */
+    int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 3 */
+    /* Seam stiffness as a multiple of the fabric's stretch stiffness: the seed's joint springs
+     * (0 = 1, its default), tryon's seams as XPBD constraints of that stiffness (0 = hard, its
+     * default). The stability map's axis (docs/garments.md). */
+    float seam_gain;
 } gar_dress_desc;
 
 /* The figures of a dressed garment (ARCHITECTURE.md "Metrics"). */
@@ -199,6 +204,70 @@ int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const struct fit_model *b
                     const gar_dress_desc *desc, gar_dress_stats *stats, gar_reject *why);
 /* The figures alone, of any state of the mesh (xyz) on the rest body. */
 int gar_dress_measure(const gar_mesh *m, const struct fit_model *body, gar_dress_stats *stats);
+
+/* Fit of a dressed garment per body region (fit.c): each garment vertex belongs to the region
+ * of the body under it (the strongest skinning joint of the nearest body vertex, within 10 cm). */
+#define GAR_REGION_LIST(X)                                                                         \
+    X(GAR_REGION_SHOULDERS, "shoulders")                                                           \
+    X(GAR_REGION_CHEST, "chest")                                                                   \
+    X(GAR_REGION_WAIST, "waist")                                                                   \
+    X(GAR_REGION_HIPS, "hips")                                                                     \
+    X(GAR_REGION_THIGHS, "thighs")                                                                 \
+    X(GAR_REGION_LOWER_LEGS, "lower_legs")                                                         \
+    X(GAR_REGION_ARMS, "arms")
+#define GAR_REGION_ENUM(id, name) id,
+typedef enum gar_region { GAR_REGION_LIST(GAR_REGION_ENUM) GAR_REGION_COUNT } gar_region;
+#undef GAR_REGION_ENUM
+const char *gar_region_name(gar_region r);
+typedef struct gar_fit_region {
+    int vertices;                 /* garment vertices over the region */
+    float max_strain, p95_strain; /* stretch springs starting there */
+    float contact;                /* share of its vertices within 5 mm of the body: the pressure */
+    float gap_mm;                 /* median distance to the body */
+} gar_fit_region;
+typedef struct gar_fit {
+    gar_fit_region region[GAR_REGION_COUNT];
+} gar_fit;
+/* m dressed on body (rest pose). */
+int gar_fit_measure(const gar_mesh *m, const struct fit_model *body, gar_fit *out);
+
+/* Which size fits (pick_size.c): the pattern at path dressed in S, M and L on body with tryon's
+ * method; the pick is the smallest size whose every region's p95 strain is within limit (the
+ * fabric's max_strain times GAR_PICK_TIGHT_FACTOR), else the least tight size. */
+#define GAR_PICK_TIGHT_FACTOR 2.0f
+typedef struct gar_size_pick {
+    gar_size size; /* the pick */
+    char reason[240];
+    float limit;    /* strain a region may have */
+    int dressed[3]; /* per size, as gar_size */
+    gar_dress_stats stats[3];
+    gar_fit fit[3];
+    float tight[3];      /* the tightest region's p95 strain */
+    int tight_region[3]; /* which (gar_region; -1 none) */
+    float loose_mm[3];   /* mean over the covered regions of their median gap */
+} gar_size_pick;
+int gar_pick_size(const char *path, const struct fit_model *body, const gar_mesh_desc *mesh,
+                  const gar_dress_desc *dress, gar_size_pick *out, gar_reject *why);
+
+/* The Cusick drape test (drape.c): a disc of the fabric, specimen_d_m across, clamped centred on
+ * a support disc support_d_m across (BS 5058: 0.30 m on 0.18 m), hangs under its own weight
+ * (tryon's dressing, 2 ms steps); then the area of its shadow seen from above. */
+typedef struct gar_drape_desc {
+    const struct gar_fabric *fabric; /* NULL = cotton */
+    float specimen_d_m;              /* 0 = 0.30 */
+    float support_d_m;               /* 0 = 0.18 */
+    float spacing_m;                 /* mesh spacing; 0 = 0.01 */
+    int steps;                       /* hanging steps of 2 ms; 0 = 1000 */
+    int iterations;                  /* as gar_dress_desc; 0 = its default */
+} gar_drape_desc;
+typedef struct gar_drape_result {
+    float coefficient; /* (shadow - support) / (specimen - support): 1 flat, 0 straight down */
+    float shadow_m2;   /* projected area, support included */
+    float drop_m;      /* how far the lowest point hangs below the support */
+    float ms;          /* wall clock of the hanging */
+    int vertices;
+} gar_drape_result;
+int gar_drape_test(const gar_drape_desc *desc, gar_drape_result *out, gar_reject *why);
 
 /* Fabrics: one table (fabric.c). Membrane stiffnesses in N/m as sim_fabric. */
 typedef struct gar_fabric {

@@ -113,17 +113,17 @@ def write(name, panels, stitches):
 
 def tshirt_body(neck):
     """T-shirt front or back as drawn from the front; neck: the neckline's control height."""
-    return Panel([(-27, 30), (27, 30), (27, 75), (20, 93), (8, 96), (-8, 96), (-20, 93),
-                  (-27, 75)],
-                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (22, 80))),
+    return Panel([(-28.5, 30), (28.5, 30), (28.5, 73), (22.5, 92.5), (8, 96), (-8, 96),
+                  (-22.5, 92.5), (-28.5, 73)],
+                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (23, 79))),
                   ("shoulder_r", None), ("neck", ("q", (0, neck))), ("shoulder_l", None),
-                  ("arm_l", ("q", (-22, 80))), ("side_l0", None)])
+                  ("arm_l", ("q", (-23, 79))), ("side_l0", None)])
 
 
 def tshirt():
     front = tshirt_body(80)
     back = tshirt_body(92).mirrored()
-    sleeve = Panel([(-17, 0), (17, 0), (19, 20), (0, 30), (-19, 20)],
+    sleeve = Panel([(-17, 0), (17, 0), (20, 20), (0, 32), (-20, 20)],
                    [("cuff", None), ("under_r", None), ("cap_a", None), ("cap_b", None),
                     ("under_l", None)])
     panels = {"front": (front, (0, 57, 16), FRONT), "back": (back, (0, 57, -16), BACK),
@@ -140,11 +140,13 @@ def tshirt():
 
 
 def dress():
-    front = Panel([(-32, 0), (32, 0), (26, 45), (23, 57), (27, 75), (20, 93), (8, 96),
-                   (-8, 96), (-20, 93), (-27, 75), (-23, 57), (-26, 45)],
+    # Sleeveless: the armhole cut in to a 7 cm shoulder, clear of the deltoid (where a wider
+    # shoulder's corner stretched 40 %), and down to 2 cm under the armpit.
+    front = Panel([(-32, 0), (32, 0), (26.5, 45), (24.5, 57), (28, 70), (15, 95),
+                   (8, 96), (-8, 96), (-15, 95), (-28, 70), (-24.5, 57), (-26.5, 45)],
                   [("hem", ("c", 200, 0, 1)), ("side_r0", None), ("side_r1", None),
-                   ("side_r2", None), ("arm_r", ("q", (22, 80))), ("shoulder_r", None),
-                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-22, 80))),
+                   ("side_r2", None), ("arm_r", ("q", (17, 76))), ("shoulder_r", None),
+                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-17, 76))),
                    ("side_l2", None), ("side_l1", None), ("side_l0", None)])
     back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 92)))] + front.edges[7:])
     back = back.mirrored()
@@ -159,9 +161,9 @@ def dress():
 
 
 def skirt():
-    front = Panel([(-34, 0), (34, 0), (26.5, 39), (22, 59), (-22, 59), (-26.5, 39)],
-                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (25.5, 51))),
-                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-25.5, 51))),
+    front = Panel([(-34, 0), (34, 0), (28, 45), (23.5, 59), (-23.5, 59), (-28, 45)],
+                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.5, 53))),
+                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-27.5, 53))),
                    ("side_l0", None)])
     back = front.mirrored()
     panels = {"front": (front, (0, 45, 14), FRONT), "back": (back, (0, 45, -14), BACK)}
@@ -172,12 +174,13 @@ def skirt():
 
 def jeans():
     # Drawn as seen from the front, the body's right leg (world -x); hem at y = 6 (ankle).
-    fr = Panel([(-16, 6), (-3, 6), (4, 74), (0, 84), (0, 104), (-21.5, 104), (-25, 84)],
-               [("hem", None), ("inseam", None), ("crotch", ("q", (0, 74))), ("centre", None),
-                ("waist", None), ("hip", ("q", (-23.5, 95))), ("side", None)])
-    br_world = Panel([(-17.5, 6), (-2.5, 6), (8, 72), (2, 86), (3, 106), (-20.5, 104), (-27, 84)],
-                     [("hem", None), ("inseam", None), ("crotch", ("q", (2, 73))),
-                      ("centre", None), ("waist", None), ("hip", ("q", (-24.5, 95))),
+    fr = Panel([(-16, 6), (-3, 6), (4.5, 73.5), (0, 84), (0, 104), (-22.5, 104), (-25.5, 84)],
+               [("hem", None), ("inseam", None), ("crotch", ("q", (0, 73.5))), ("centre", None),
+                ("waist", None), ("hip", ("q", (-24.5, 95))), ("side", None)])
+    br_world = Panel([(-17.5, 6), (-2.5, 6), (9, 71), (2, 86), (3, 106), (-21.5, 104),
+                      (-27.5, 84)],
+                     [("hem", None), ("inseam", None), ("crotch", ("q", (2, 72))),
+                      ("centre", None), ("waist", None), ("hip", ("q", (-25.5, 95))),
                       ("side", None)])
     br = br_world.mirrored()  # in its own frame, which faces -z
     fl, bl = fr.mirrored(), br_world
