@@ -235,41 +235,6 @@ void sim_place_attachment(__global float4 *x, __global float4 *x_prev,
     x[vi] = (float4)(f.x + u * (t.x - f.x), f.y + u * (t.y - f.y), f.z + u * (t.z - f.z), p.w);
 }
 
-/* One pass each, for the twin tests. */
-__kernel void sim_verlet(__global float4 *x, __global float4 *x_prev, int begin, int end,
-                         float keep, float4 a)
-{
-    int i = begin + (int)get_global_id(0);
-    if (i < end)
-        sim_verlet_one(x, x_prev, i, keep, a);
-}
-
-__kernel void sim_project_springs(__global float4 *x, __global const int2 *ends,
-                                  __global const float *rest, __global const uchar *kind,
-                                  float4 alpha, int begin, int end)
-{
-    int s = begin + (int)get_global_id(0);
-    if (s < end)
-        sim_project_spring(x, ends, rest, kind, alpha, s);
-}
-
-__kernel void sim_strain_limit(__global float4 *x, __global const int2 *ends,
-                               __global const float *rest, __global const uchar *kind, int begin,
-                               int end, float limit)
-{
-    int s = begin + (int)get_global_id(0);
-    if (s < end)
-        sim_strain_limit_one(x, ends, rest, kind, s, limit);
-}
-
-__kernel void sim_tethers(__global float4 *x, __global const int *anchor, __global const float *len,
-                          int begin, int end, float limit)
-{
-    int i = begin + (int)get_global_id(0);
-    if (i < end)
-        sim_tether_one(x, anchor, len, i, limit);
-}
-
 /* One Gauss-Seidel sweep of the strain limit over the stretch colours, a barrier after each
    (strain_limit_sweep in sim/solver_c.c); every work-item of the group calls it. */
 void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global const float *rest,
@@ -285,10 +250,9 @@ void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global co
 }
 
 /* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
-   work-group: contacts refreshed every contact_every steps (0 = never; a full search, or the
-   surface walk of sim_collider_track_contacts when contact_walk is set: whichever the C solver
-   calls), Verlet, attachments, XPBD springs colour by colour, strain limiting colour by colour,
-   then per vertex tethers and collision response; after the last step the post-stabilisation. */
+   work-group: contacts refreshed by a full search every contact_every steps (0 = never), Verlet,
+   attachments, XPBD springs colour by colour, strain limiting colour by colour, then per vertex
+   tethers and collision response; after the last step the post-stabilisation. */
 __kernel void sim_iterations_tryon(
     __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
     __global const float *rest, __global const uchar *kind, __global const int *color_start,
@@ -298,7 +262,7 @@ __kernel void sim_iterations_tryon(
     __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
     __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
-    __global int *contact, int contact_walk, __global const sim_attachment *att, int natt,
+    __global int *contact, __global const sim_attachment *att, int natt,
     __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
     __global const int *hier_level_start, __global const int *hier_vertex,
     __global const int *hier_parent_start, __global const int *hier_parent,
@@ -312,13 +276,9 @@ __kernel void sim_iterations_tryon(
     for (int it = 0; it < iters; it++) {
         int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
         for (int i = lid; i < nv; i += L) {
-            if (refresh && contact_walk) {
-                sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start,
-                                      vt_list, radius, contact);
-            } else if (refresh) {
+            if (refresh)
                 contact[i] =
                     sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
-            }
             sim_verlet_one(x, x_prev, i, keep, g);
         }
         /* Attached vertices have w = 0, so Verlet left them alone: no race. */

@@ -17,9 +17,6 @@
 /* Work-group size cap of the iterations kernel: every work-item strides over vertices and
    springs; larger groups only add barrier cost on a CPU device. */
 #define ITER_GROUP_MAX 1024
-/* Contact refresh inside the iterations, as sim/solver_c.c iterations_tryon does it: 0 = the full
-   search (sim_collider_find_contacts), 1 = the surface walk (sim_collider_track_contacts). */
-#define CONTACT_WALK 0
 
 typedef struct cl_state {
     sim_cl cl;
@@ -317,35 +314,33 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     st |= ARG(it, 29, h);
     st |= ARG(it, 30, mu);
     st |= ARG(it, 31, c->g.contact);
-    int walk = CONTACT_WALK;
-    st |= ARG(it, 32, walk);
-    st |= ARG(it, 33, c->attach);
-    st |= ARG(it, 34, k->num_attachments);
-    st |= ARG(it, 35, c->att_from);
-    st |= ARG(it, 36, c->att_to);
-    st |= ARG(it, 37, k->hier_levels);
-    st |= ARG(it, 38, c->hier_level_start);
-    st |= ARG(it, 39, c->hier_vertex);
-    st |= ARG(it, 40, c->hier_parent_start);
-    st |= ARG(it, 41, c->hier_parent);
-    st |= ARG(it, 42, c->hier_rest);
+    st |= ARG(it, 32, c->attach);
+    st |= ARG(it, 33, k->num_attachments);
+    st |= ARG(it, 34, c->att_from);
+    st |= ARG(it, 35, c->att_to);
+    st |= ARG(it, 36, k->hier_levels);
+    st |= ARG(it, 37, c->hier_level_start);
+    st |= ARG(it, 38, c->hier_vertex);
+    st |= ARG(it, 39, c->hier_parent_start);
+    st |= ARG(it, 40, c->hier_parent);
+    st |= ARG(it, 41, c->hier_rest);
     int rounds = SIM_POST_ROUNDS, tests = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH,
         batch = SIM_SETTLE_BATCH;
     float settle_strain = SIM_SETTLE_STRAIN, settle_progress = SIM_SETTLE_PROGRESS;
-    st |= ARG(it, 43, rounds);
-    st |= ARG(it, 44, tests);
-    st |= ARG(it, 45, batch);
-    st |= ARG(it, 46, settle_progress);
-    st |= ARG(it, 47, settle_strain);
-    st |= ARG(it, 48, c->settle);
+    st |= ARG(it, 42, rounds);
+    st |= ARG(it, 43, tests);
+    st |= ARG(it, 44, batch);
+    st |= ARG(it, 45, settle_progress);
+    st |= ARG(it, 46, settle_strain);
+    st |= ARG(it, 47, c->settle);
     int support = s->desc.support && k->num_attachments == 0;
     float rest_tol = SIM_REST_TOL_M;
-    st |= ARG(it, 49, support);
-    st |= ARG(it, 50, c->adj_start);
-    st |= ARG(it, 51, c->adj_spring);
-    st |= ARG(it, 52, c->level);
-    st |= ARG(it, 53, c->front);
-    st |= ARG(it, 54, rest_tol);
+    st |= ARG(it, 48, support);
+    st |= ARG(it, 49, c->adj_start);
+    st |= ARG(it, 50, c->adj_spring);
+    st |= ARG(it, 51, c->level);
+    st |= ARG(it, 52, c->front);
+    st |= ARG(it, 53, rest_tol);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;
