@@ -175,9 +175,13 @@ void sim_spring_forces(const float (*x)[4], const float (*x_prev)[4], const int3
                        int begin, int end, float dt, float damp_ratio, float (*acc_dt2)[4]);
 void sim_verlet_forces(float (*x)[4], float (*x_prev)[4], const float (*acc_dt2)[4], int begin,
                        int end, float keep, const float g_dt2[3]);
-/* seed: Provot position correction of springs stretched past tau. */
-void sim_provot_correct(float (*x)[4], const int32_t (*ends)[2], const float *rest,
-                        const uint8_t *kind, int begin, int end, float tau);
+/* The clamp: springs of the kinds in `kinds` (bit 1 << kind) longer than rest * (1 + ratio)
+ * shortened back to it, each end moved in proportion to its inverse mass (a pinned end stays).
+ * seed: Provot's correction (stretch and shear, ratio tau); tryon: the strain limit (below). */
+#define SIM_KINDS_STRETCH (1u << SIM_SPRING_STRETCH)
+#define SIM_KINDS_PROVOT  (1u << SIM_SPRING_STRETCH | 1u << SIM_SPRING_SHEAR)
+void sim_clamp_springs(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                       const uint8_t *kind, int begin, int end, unsigned kinds, float ratio);
 /* tryon: XPBD distance constraint, one Gauss-Seidel pass over springs of one colour. alpha =
  * compliance / dt^2 per kind. */
 void sim_project_springs(float (*x)[4], const int32_t (*ends)[2], const float *rest,
@@ -215,9 +219,12 @@ void sim_post_end(float (*x)[4], float (*x_prev)[4], int begin, int end);
  * springs.cl). */
 float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float *rest,
                       const uint8_t *kind, int begin, int end);
-/* tryon: clamp stretch springs to rest * (1 + limit). */
-void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
-                      const uint8_t *kind, int begin, int end, float limit);
+/* tryon: the strain limit, the clamp of stretch springs to rest * (1 + limit). */
+static inline void sim_strain_limit(float (*x)[4], const int32_t (*ends)[2], const float *rest,
+                                    const uint8_t *kind, int begin, int end, float limit)
+{
+    sim_clamp_springs(x, ends, rest, kind, begin, end, SIM_KINDS_STRETCH, limit);
+}
 
 /* Fill why (may be NULL) with code and a formatted place; returns -code. */
 int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)

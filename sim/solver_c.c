@@ -452,7 +452,8 @@ static void iterations_seed(struct sim *s, c_state *cs, int iters, float dt, flo
 #pragma omp for schedule(static)
                 for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
                     int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
-                    sim_provot_correct(c->x, c->ends, c->rest, c->kind, s0, s1, SIM_PROVOT_TAU);
+                    sim_clamp_springs(c->x, c->ends, c->rest, c->kind, s0, s1, SIM_KINDS_PROVOT,
+                                      SIM_PROVOT_TAU);
                 }
             }
             /* seed 000: the S-BVH is searched in every iteration */
