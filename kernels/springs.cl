@@ -252,27 +252,35 @@ void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global co
 /* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
    work-group: contacts refreshed by a full search every contact_every steps (0 = never), Verlet,
    attachments, XPBD springs colour by colour, strain limiting colour by colour, then per vertex
-   tethers and collision response; after the last step the post-stabilisation. */
+   tethers and collision response; after the last step the post-stabilisation. The settings in p
+   (kernels/solver_params.h, filled by sim/frame_settings.c for both backends), then the buffers
+   in the order sim/cl_backend.c iterations sets them. */
 __kernel void sim_iterations_tryon(
-    __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
-    __global const float *rest, __global const uchar *kind, __global const int *color_start,
-    int num_colors, int num_stretch_colors, float4 alpha, __global const int *tether_anchor,
-    __global const float *tether_len, float limit, float keep, float4 g, int iters,
-    int contact_every, int nleaves, __global const int2 *child, __global const int *order,
+    const sim_solver_params p, __global float4 *x, __global float4 *x_prev,
+    __global const int2 *ends, __global const float *rest, __global const uchar *kind,
+    __global const int *color_start, __global const int *tether_anchor,
+    __global const float *tether_len, __global const int2 *child, __global const int *order,
     __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
-    __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
-    __global int *contact, __global const sim_attachment *att, int natt,
-    __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
-    __global const int *hier_level_start, __global const int *hier_vertex,
-    __global const int *hier_parent_start, __global const int *hier_parent,
-    __global const float *hier_rest, int post_rounds, int settle_tests, int settle_batch,
-    float settle_progress, float settle_strain, __global int *settle_rounds, int support,
+    __global const int *vt_start, __global const int *vt_list, __global int *contact,
+    __global const sim_attachment *att, __global const float4 *att_from,
+    __global const float4 *att_to, __global const int *hier_level_start,
+    __global const int *hier_vertex, __global const int *hier_parent_start,
+    __global const int *hier_parent, __global const float *hier_rest, __global int *settle_rounds,
     __global const int *adj_start, __global const int *adj_spring, __global int *level,
-    __global int *front, float rest_tol)
+    __global int *front)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     __local int settle_max, support_key, support_root, support_count;
+    const int nv = p.nv, num_colors = p.num_colors, num_stretch_colors = p.num_stretch_colors,
+              iters = p.iters, contact_every = p.contact_every, nleaves = p.nleaves, natt = p.natt,
+              hier_levels = p.hier_levels, post_rounds = p.post_rounds,
+              settle_tests = p.settle_tests, settle_batch = p.settle_batch, support = p.support;
+    const float limit = p.limit, keep = p.keep, radius = p.radius, h = p.h, mu = p.mu,
+                settle_progress = p.settle_progress, settle_strain = p.settle_strain,
+                rest_tol = p.rest_tol;
+    const float4 alpha = (float4)(p.alpha[0], p.alpha[1], p.alpha[2], 0.0f);
+    const float4 g = (float4)(p.g[0], p.g[1], p.g[2], 0.0f);
     for (int it = 0; it < iters; it++) {
         int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
         for (int i = lid; i < nv; i += L) {
@@ -411,4 +419,13 @@ __kernel void sim_iterations_tryon(
         if (lid == 0 && extra >= 0)
             *settle_rounds = extra + 1;
     }
+}
+
+/* The layout of sim_solver_params as this device compiles it: its size and the offset of its
+   last field, in bytes (test_cl_backend compares them with the host's). */
+__kernel void sim_solver_params_layout(__global int *out)
+{
+    sim_solver_params p;
+    out[0] = (int)sizeof(sim_solver_params);
+    out[1] = (int)((__private char *)&p.rest_tol - (__private char *)&p);
 }

@@ -12,6 +12,7 @@
 #endif
 
 #include "cloth.h"
+#include "frame_settings.h"
 #include "phases.h"
 
 typedef struct c_state {
@@ -334,15 +335,13 @@ static float frame_start(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_c
 
 /* The tryon solver's frame: frame_start, the steps, the post-stabilisation, the settle rounds;
    the stages' ms into st. */
-static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
-                             const float g[3], sim_frame_stats *st)
+static void iterations_tryon(struct sim *s, c_state *cs, const sim_solver_params *p,
+                             sim_frame_stats *st)
 {
     sim_cloth *c = &s->cloth;
-    float alpha[SIM_SPRING_KINDS];
-    for (int k = 0; k < SIM_SPRING_KINDS; k++)
-        alpha[k] = c->k[k] > 0.0f ? 1.0f / (c->k[k] * dt * dt) : 1e30f;
-    float limit = s->desc.strain_limit;
-    int support = s->desc.support && c->num_attachments == 0;
+    const float *alpha = p->alpha, *g = p->g;
+    float limit = p->limit, keep = p->keep;
+    int support = p->support, iters = p->iters;
     int threads = 1;
 #ifdef _OPENMP
     threads = omp_get_max_threads();
@@ -473,13 +472,10 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
 {
     c_state *cs = state;
     sim_cloth *c = &s->cloth;
-    float dt = s->desc.frame_dt_s / (float)iters;
-    /* damping: the fraction of velocity lost per second, spread over the substeps */
-    float keep = s->desc.damping > 0.0f ? powf(1.0f - s->desc.damping, dt) : 1.0f;
-    float g[3] = {0.0f, -s->desc.gravity_m_s2 * dt * dt, 0.0f};
-
+    sim_solver_params p;
+    sim_solver_params_fill(s, iters, &p);
     if (s->desc.solver == SIM_SOLVER_TRYON) {
-        iterations_tryon(s, cs, iters, dt, keep, g, st);
+        iterations_tryon(s, cs, &p, st);
         return 0;
     }
     double t0 = now_ms();
@@ -493,7 +489,7 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     double t1 = now_ms();
     st->ms_feature_points = (float)(t1 - t0);
     float ms_contacts = 0.0f;
-    iterations_seed(s, cs, iters, dt, keep, g, &ms_contacts);
+    iterations_seed(s, cs, iters, p.dt, p.keep, p.g, &ms_contacts);
     st->ms_contacts = ms_contacts;
     st->ms_iterations = (float)(now_ms() - t1) - ms_contacts;
     return 0;
