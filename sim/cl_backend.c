@@ -250,9 +250,9 @@ static cl_int follow(cl_state *c, struct sim *s)
     return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
-/* Twin of frame_travel in sim/solver_c.c: how far the fastest point would go this frame at its
-   current speed. On the host copy, which matches the device: feature points move x and x_prev
-   together, so they do not change it. */
+/* As the C backend measures it (step_travel2 in stage_start, sim/solver_c.c): how far the fastest
+   point would go this frame at its current speed. On the host copy, which matches the device:
+   feature points move x and x_prev together, so they do not change it. */
 static float frame_travel(const sim_cloth *c, int iters)
 {
     float m2 = 0.0f;
@@ -271,7 +271,7 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     const sim_cloth *k = &s->cloth;
     sim_solver_params p;
     sim_solver_params_fill(s, iters, &p);
-    /* contacts refreshed only while the cloth moves fast, as iterations_tryon decides */
+    /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
     p.contact_every = frame_travel(k, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
     p.nleaves = c->g.nt;
     const cl_mem bufs[] = {c->x,

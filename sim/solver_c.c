@@ -25,7 +25,7 @@ typedef struct c_state {
        floats order as their bits), maxed over the threads */
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
-    /* the frame's start in the team (frame_start): feature points moved, and the fastest cloth
+    /* the frame's start in the team (stage_start): feature points moved, and the fastest cloth
        point's squared travel in a step as float bits (non-negative floats order as their bits) */
     atomic_int fp_moved;
     _Atomic uint32_t travel2;
