@@ -225,7 +225,7 @@ static cl_int attachments(cl_state *c, const sim_cloth *k)
 }
 
 /* The moving frame of this body frame (sim/follow.c), on the device and on the host copy (which
-   frame_travel reads): the same bits. */
+   sim_step_travel2 reads): the same bits. */
 static cl_int follow(cl_state *c, struct sim *s)
 {
     sim_cloth *k = &s->cloth;
@@ -250,20 +250,6 @@ static cl_int follow(cl_state *c, struct sim *s)
     return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
-/* As the C backend measures it (step_travel2 in stage_start, sim/solver_c.c): how far the fastest
-   point would go this frame at its current speed. On the host copy, which matches the device:
-   feature points move x and x_prev together, so they do not change it. */
-static float frame_travel(const sim_cloth *c, int iters)
-{
-    float m2 = 0.0f;
-    for (int i = 0; i < c->nv; i++) {
-        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
-                      c->x[i][2] - c->x_prev[i][2]};
-        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    return sqrtf(m2) * (float)iters;
-}
-
 /* The frame's iterations: the settings (sim_solver_params_fill, as the C backend reads them) by
    value, then the buffers in sim_iterations_tryon's order (kernels/springs.cl). */
 static cl_int iterations(cl_state *c, const struct sim *s, int iters)
@@ -272,7 +258,9 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
     sim_solver_params p;
     sim_solver_params_fill(s, iters, &p);
     /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
-    p.contact_every = frame_travel(k, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
+    /* on the host copy, which matches the device: feature points move x and x_prev together, so
+       they do not change the travel */
+    p.contact_every = sim_contact_every(sim_step_travel2(k, 0, k->nv), iters);
     p.nleaves = c->g.nt;
     const cl_mem bufs[] = {c->x,
                            c->x_prev,

@@ -39,3 +39,19 @@ void sim_solver_params_fill(const struct sim *s, int iters, sim_solver_params *p
     p->support = s->desc.support && c->num_attachments == 0;
     p->rest_tol = SIM_REST_TOL_M;
 }
+
+float sim_step_travel2(const sim_cloth *c, int b, int e)
+{
+    float m2 = 0.0f;
+    for (int i = b; i < e; i++) {
+        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
+                      c->x[i][2] - c->x_prev[i][2]};
+        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    return m2;
+}
+
+int sim_contact_every(float travel2, int iters)
+{
+    return sqrtf(travel2) * (float)iters > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
+}

@@ -160,18 +160,6 @@ static void place_attachments(struct sim *s, const c_state *cs, int it, int iter
     }
 }
 
-/* The largest squared distance a cloth point of [b, e) moves in a step at its current velocity. */
-static float step_travel2(const sim_cloth *c, int b, int e)
-{
-    float m2 = 0.0f;
-    for (int i = b; i < e; i++) {
-        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
-                      c->x[i][2] - c->x_prev[i][2]};
-        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    return m2;
-}
-
 /* m into the float bits at *max when larger (non-negative floats order as their bits). */
 static void atomic_max_bits(_Atomic uint32_t *max, float m)
 {
@@ -304,7 +292,7 @@ static void stage_start(struct sim *s, c_state *cs, frame_walk *w)
             atomic_fetch_add(&cs->fp_moved,
                              sim_collider_feature_points(s->collider, c->x, c->x_prev, b, e));
         attachment_targets(s, cs, b, e);
-        atomic_max_bits(&cs->travel2, step_travel2(c, b, e));
+        atomic_max_bits(&cs->travel2, sim_step_travel2(c, b, e));
     }
     sim_phase_end(w->ph, &w->cur, 1);
     if (w->cur.thread == 0)
@@ -326,8 +314,7 @@ static void stage_contacts(struct sim *s, c_state *cs, frame_walk *w)
     sim_phase_end(w->ph, &w->cur, 1);
     if (w->cur.thread == 0)
         w->t_cont = now_ms();
-    float travel = sqrtf(bits_float(&cs->travel2)) * (float)w->p->iters;
-    w->refresh = travel > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
+    w->refresh = sim_contact_every(bits_float(&cs->travel2), w->p->iters);
 }
 
 /* SIM_STAGE_STEP it, per vertex: the contacts refreshed, Verlet, the attachments placed (the
