@@ -14,6 +14,8 @@ static inline WF_TARGET int WF(springs)(float (*x)[4], const int32_t (*ends)[2],
                                         float ratio, int s, int end)
 {
     const WF(t) zero = WF(set1)(0.0f), tiny = WF(set1)(1e-9f), scale = WF(set1)(1.0f + ratio);
+    const float none[3] = {0.0f, 0.0f, 0.0f};
+    const WF(table) table = WF(table_of)(alpha ? alpha : none);
     for (; s + WF_LANES <= end; s += WF_LANES) {
         WF(t) a[4], b[4];
         WF(rows)((const float(*)[4])x, &ends[s][0], 2, a);
@@ -27,7 +29,7 @@ static inline WF_TARGET int WF(springs)(float (*x)[4], const int32_t (*ends)[2],
         int mask;
         if (alpha) {
             target = WF(load)(rest + s);
-            wsum = WF(add)(w2, WF(lookup)(alpha, kind + s));
+            wsum = WF(add)(w2, WF(lookup)(&table, kind + s));
             mask = WF(neq)(w2, zero) & WF(nlt)(len, tiny);
         } else {
             target = WF(mul)(WF(load)(rest + s), scale);
@@ -40,12 +42,13 @@ static inline WF_TARGET int WF(springs)(float (*x)[4], const int32_t (*ends)[2],
         if (!mask)
             continue;
         WF(t) c = WF(div)(WF(sub)(len, target), WF(mul)(len, wsum));
-        WF(t) ni[3], nj[3];
+        WF(t) ni[4], nj[4];
         for (int k = 0; k < 3; k++) {
             WF(t) t = WF(mul)(d[k], c);
             ni[k] = WF(add)(a[k], WF(mul)(t, a[3]));
             nj[k] = WF(sub)(b[k], WF(mul)(t, b[3]));
         }
+        ni[3] = a[3], nj[3] = b[3];
         WF(store)(x, &ends[s][0], 2, ni, mask);
         WF(store)(x, &ends[s][1], 2, nj, mask);
     }
@@ -63,7 +66,7 @@ static inline WF_TARGET int WF(verlet)(float (*x)[4], float (*x_prev)[4], float 
         int32_t self[WF_LANES];
         for (int l = 0; l < WF_LANES; l++)
             self[l] = i + l;
-        WF(t) p[4], q[4], n[3];
+        WF(t) p[4], q[4], n[4];
         WF(rows)((const float(*)[4])x, self, 1, p);
         WF(rows)((const float(*)[4])x_prev, self, 1, q);
         int mask = WF(neq)(p[3], zero);
@@ -71,7 +74,9 @@ static inline WF_TARGET int WF(verlet)(float (*x)[4], float (*x_prev)[4], float 
             continue;
         for (int d = 0; d < 3; d++)
             n[d] = WF(add)(WF(add)(p[d], WF(mul)(WF(sub)(p[d], q[d]), k)), g[d]);
-        WF(store)(x_prev, self, 1, p, mask);
+        n[3] = p[3];
+        q[0] = p[0], q[1] = p[1], q[2] = p[2]; /* x_prev = x, its own w kept */
+        WF(store)(x_prev, self, 1, q, mask);
         WF(store)(x, self, 1, n, mask);
     }
     return i;
@@ -95,7 +100,7 @@ static inline WF_TARGET int WF(tethers)(float (*x)[4], const int32_t *anchor, co
         }
         if (!mask)
             continue;
-        WF(t) p[4], q[4], n[3];
+        WF(t) p[4], q[4], n[4];
         WF(rows)((const float(*)[4])x, self, 1, p);
         mask &= WF(neq)(p[3], zero);
         if (!mask)
@@ -110,6 +115,7 @@ static inline WF_TARGET int WF(tethers)(float (*x)[4], const int32_t *anchor, co
         WF(t) c = WF(div)(WF(sub)(l, lmax), l);
         for (int k = 0; k < 3; k++)
             n[k] = WF(select)(move, WF(sub)(p[k], WF(mul)(d[k], c)), p[k]);
+        n[3] = p[3];
         WF(store)(x, self, 1, n, mask);
     }
     return i;

@@ -6,8 +6,9 @@
  * kernels/springs.cl.
  *
  * Lane k holds item k of a run of WF lanes (a spring, a vertex). rows() gathers the float4 rows
- * x[idx[k * stride]] as four vectors (x, y, z, w per lane); store() writes x, y, z of the lanes in
- * mask (bit k = lane k) back, w kept. Comparisons return such masks; NaN compares unordered (a
+ * x[idx[k * stride]] as four vectors (x, y, z, w per lane); store() writes the rows of the lanes
+ * in mask (bit k = lane k) back, their w from the fourth vector (the one rows() gave: kept; the
+ * one-lane width writes x, y, z only). Comparisons return such masks; NaN compares unordered (a
  * NaN lane is "not equal", "not less", "not less or equal", as C's !(a < b) is true for NaN). */
 #ifndef TRYON_SIM_WIDE_H
 #define TRYON_SIM_WIDE_H
@@ -73,10 +74,20 @@ static inline wf1_t wf1_select(int mask, wf1_t a, wf1_t b)
 {
     return mask & 1 ? a : b;
 }
-/* table[kind[k]] per lane */
-static inline wf1_t wf1_lookup(const float *table, const uint8_t *kind)
+/* table[kind[k]] per lane, kinds 0..2: wfN_table_of once before a loop (alpha may alias what the
+   loop stores, so the compiler would load it again for every run), then wfN_lookup per run */
+typedef struct wf1_table {
+    float t[3];
+} wf1_table;
+
+static inline wf1_table wf1_table_of(const float *a)
 {
-    return table[kind[0]];
+    return (wf1_table){{a[0], a[1], a[2]}};
+}
+
+static inline wf1_t wf1_lookup(const wf1_table *t, const uint8_t *kind)
+{
+    return t->t[kind[0]];
 }
 
 static inline void wf1_rows(const float (*x)[4], const int32_t *idx, int stride, wf1_t r[4])
@@ -86,7 +97,7 @@ static inline void wf1_rows(const float (*x)[4], const int32_t *idx, int stride,
         r[d] = x[idx[0]][d];
 }
 
-static inline void wf1_store(float (*x)[4], const int32_t *idx, int stride, const wf1_t r[3],
+static inline void wf1_store(float (*x)[4], const int32_t *idx, int stride, const wf1_t r[4],
                              int mask)
 {
     (void)stride;
@@ -148,9 +159,14 @@ static inline wf4_t wf4_select(int mask, wf4_t a, wf4_t b)
     return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
 }
 
-static inline wf4_t wf4_lookup(const float *table, const uint8_t *kind)
+typedef wf1_table wf4_table;
+static inline wf4_table wf4_table_of(const float *a)
 {
-    return _mm_set_ps(table[kind[3]], table[kind[2]], table[kind[1]], table[kind[0]]);
+    return wf1_table_of(a);
+}
+static inline wf4_t wf4_lookup(const wf4_table *t, const uint8_t *kind)
+{
+    return _mm_set_ps(t->t[kind[3]], t->t[kind[2]], t->t[kind[1]], t->t[kind[0]]);
 }
 
 static inline void wf4_rows(const float (*x)[4], const int32_t *idx, int stride, wf4_t r[4])
@@ -160,18 +176,14 @@ static inline void wf4_rows(const float (*x)[4], const int32_t *idx, int stride,
     _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
 }
 
-static inline void wf4_store(float (*x)[4], const int32_t *idx, int stride, const wf4_t r[3],
+static inline void wf4_store(float (*x)[4], const int32_t *idx, int stride, const wf4_t r[4],
                              int mask)
 {
-    __m128 t[4] = {r[0], r[1], r[2], _mm_setzero_ps()};
+    __m128 t[4] = {r[0], r[1], r[2], r[3]};
     _MM_TRANSPOSE4_PS(t[0], t[1], t[2], t[3]);
-    const __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
-    for (int k = 0; k < 4; k++) {
-        if (!(mask >> k & 1))
-            continue;
-        float *p = x[idx[k * stride]];
-        _mm_storeu_ps(p, _mm_or_ps(_mm_and_ps(xyz, t[k]), _mm_andnot_ps(xyz, _mm_loadu_ps(p))));
-    }
+    for (int k = 0; k < 4; k++)
+        if (mask >> k & 1)
+            _mm_storeu_ps(x[idx[k * stride]], t[k]);
 }
 #endif
 
@@ -245,15 +257,22 @@ static inline WF8_TARGET wf8_t wf8_select(int mask, wf8_t a, wf8_t b)
 }
 
 /* a select from the table in a register (built lane by lane from memory it cost a
-   store-forwarding stall per eight springs); kinds 0..2 */
-static inline WF8_TARGET wf8_t wf8_lookup(const float *table, const uint8_t *kind)
+   store-forwarding stall per eight springs) */
+typedef struct wf8_table {
+    __m256 t;
+} wf8_table;
+
+static inline WF8_TARGET wf8_table wf8_table_of(const float *a)
 {
-    const __m256 t = _mm256_setr_ps(table[0], table[1], table[2], table[2], table[0], table[1],
-                                    table[2], table[2]);
+    return (wf8_table){_mm256_setr_ps(a[0], a[1], a[2], a[2], a[0], a[1], a[2], a[2])};
+}
+
+static inline WF8_TARGET wf8_t wf8_lookup(const wf8_table *t, const uint8_t *kind)
+{
     __m128i k8 = _mm_loadl_epi64((const __m128i *)(const void *)kind);
     __m256i idx = _mm256_insertf128_si256(_mm256_castsi128_si256(_mm_cvtepu8_epi32(k8)),
                                           _mm_cvtepu8_epi32(_mm_srli_si128(k8, 4)), 1);
-    return _mm256_permutevar_ps(t, idx);
+    return _mm256_permutevar_ps(t->t, idx);
 }
 
 static inline WF8_TARGET void wf8_rows(const float (*x)[4], const int32_t *idx, int stride,
@@ -266,16 +285,15 @@ static inline WF8_TARGET void wf8_rows(const float (*x)[4], const int32_t *idx, 
 }
 
 static inline WF8_TARGET void wf8_store(float (*x)[4], const int32_t *idx, int stride,
-                                        const wf8_t r[3], int mask)
+                                        const wf8_t r[4], int mask)
 {
-    __m256 t[4] = {r[0], r[1], r[2], _mm256_setzero_ps()};
+    __m256 t[4] = {r[0], r[1], r[2], r[3]};
     WF8_TRANSPOSE(t[0], t[1], t[2], t[3]); /* t[k]: rows k and k + 4 */
-    for (int k = 0; k < 8; k++) {
-        if (!(mask >> k & 1))
-            continue;
-        float *p = x[idx[k * stride]];
-        __m128 row = k < 4 ? _mm256_castps256_ps128(t[k]) : _mm256_extractf128_ps(t[k - 4], 1);
-        _mm_storeu_ps(p, _mm_blend_ps(row, _mm_loadu_ps(p), 0x8));
+    for (int k = 0; k < 4; k++) {
+        if (mask >> k & 1)
+            _mm_storeu_ps(x[idx[k * stride]], _mm256_castps256_ps128(t[k]));
+        if (mask >> (k + 4) & 1)
+            _mm_storeu_ps(x[idx[(k + 4) * stride]], _mm256_extractf128_ps(t[k], 1));
     }
 }
 #endif
