@@ -35,9 +35,10 @@ static inline WF_TARGET int WF(springs)(float (*x)[4], const int32_t (*ends)[2],
             target = WF(mul)(WF(load)(rest + s), scale);
             wsum = w2;
             mask = WF(neq)(w2, zero) & WF(nle)(len, target);
-            for (int k = 0; k < WF_LANES; k++)
-                if (!(kinds >> kind[s + k] & 1u))
-                    mask &= ~(1 << k);
+            if (!(kinds & 1u) || !wf_bytes_zero(kind + s, WF_LANES))
+                for (int k = 0; k < WF_LANES; k++)
+                    if (!(kinds >> kind[s + k] & 1u))
+                        mask &= ~(1 << k);
         }
         if (!mask)
             continue;

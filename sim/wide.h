@@ -26,6 +26,15 @@
 #define WF8_TARGET   __attribute__((target("avx")))
 #endif
 
+/* Whether the n <= 8 bytes at p are all zero (a run of springs all of kind 0, stretch: the strain
+   limit's colours as a rule, which then need no look at each lane's kind). */
+static inline int wf_bytes_zero(const uint8_t *p, int n)
+{
+    uint64_t v = 0;
+    memcpy(&v, p, (size_t)n);
+    return v == 0;
+}
+
 /* ---- wf1: one lane, plain C ------------------------------------------------------------------ */
 #define WF1_LANES 1
 typedef float wf1_t;
