@@ -2,7 +2,8 @@
 # The solver refactor's check (docs/sim.md, "How the solver is organised"): the golden hashes, and
 # the body-scene figures of both backends, which a change to the solver's code organisation must
 # leave unchanged. With OLD_BENCH (a tryon-bench-sim built before the change) the non-timing
-# figures are compared exactly and the median frame times alternated old / new three times.
+# figures are compared exactly, the instructions of 4 frames counted (valgrind) and the median
+# frame times alternated old / new three times.
 # usage: docs/figures/solver_figures.sh BUILD_DIR [OLD_BENCH]
 set -eu
 B=${1:-build}
@@ -31,6 +32,15 @@ for backend in c opencl; do
         fi
     fi
 done
+if [ -n "$OLD" ] && command -v valgrind > /dev/null; then
+    # instructions, which the machine's load does not change (4 frames, 1 thread)
+    for bin in "$OLD" "$B/sim/tryon-bench-sim"; do
+        printf 'instructions, %s: ' "$bin"
+        OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file="$OUT/callgrind.out" \
+            "$bin" --scene body --verts 7000 --iterations 25 --backend c --no-ref --frames 4 \
+            --cache-dir "$OUT" 2>&1 > /dev/null | grep -o 'Collected : [0-9]*'
+    done
+fi
 if [ -n "$OLD" ]; then
     for r in 1 2 3; do
         for bin in "$OLD" "$B/sim/tryon-bench-sim"; do
