@@ -1,6 +1,7 @@
 /* Opening LCM, channel names and clocks. */
 #include "bus.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,4 +72,17 @@ const char *bus_error_name(bus_error e)
 const char *bus_error_text(bus_error e)
 {
     return (e >= 0 && e < BUS_ERROR_COUNT) ? error_texts[e] : "unknown error";
+}
+
+/* Here beside the names, not in wire.c: wire.c calls validate.c, which reports through this. */
+bus_error bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
+{
+    if (why) {
+        why->code = code;
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
+        va_end(ap);
+    }
+    return code;
 }

@@ -309,15 +309,3 @@ bus_error bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *m
     free(buf);
     return e;
 }
-
-bus_error bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
-{
-    if (why) {
-        why->code = code;
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
-        va_end(ap);
-    }
-    return code;
-}

@@ -235,41 +235,6 @@ void sim_place_attachment(__global float4 *x, __global float4 *x_prev,
     x[vi] = (float4)(f.x + u * (t.x - f.x), f.y + u * (t.y - f.y), f.z + u * (t.z - f.z), p.w);
 }
 
-/* One pass each, for the twin tests. */
-__kernel void sim_verlet(__global float4 *x, __global float4 *x_prev, int begin, int end,
-                         float keep, float4 a)
-{
-    int i = begin + (int)get_global_id(0);
-    if (i < end)
-        sim_verlet_one(x, x_prev, i, keep, a);
-}
-
-__kernel void sim_project_springs(__global float4 *x, __global const int2 *ends,
-                                  __global const float *rest, __global const uchar *kind,
-                                  float4 alpha, int begin, int end)
-{
-    int s = begin + (int)get_global_id(0);
-    if (s < end)
-        sim_project_spring(x, ends, rest, kind, alpha, s);
-}
-
-__kernel void sim_strain_limit(__global float4 *x, __global const int2 *ends,
-                               __global const float *rest, __global const uchar *kind, int begin,
-                               int end, float limit)
-{
-    int s = begin + (int)get_global_id(0);
-    if (s < end)
-        sim_strain_limit_one(x, ends, rest, kind, s, limit);
-}
-
-__kernel void sim_tethers(__global float4 *x, __global const int *anchor, __global const float *len,
-                          int begin, int end, float limit)
-{
-    int i = begin + (int)get_global_id(0);
-    if (i < end)
-        sim_tether_one(x, anchor, len, i, limit);
-}
-
 /* One Gauss-Seidel sweep of the strain limit over the stretch colours, a barrier after each
    (strain_limit_sweep in sim/solver_c.c); every work-item of the group calls it. */
 void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global const float *rest,
@@ -284,171 +249,193 @@ void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global co
     }
 }
 
-/* The tryon solver's iterations of one frame (sim/solver_c.c iterations_tryon), in one
-   work-group: contacts refreshed every contact_every steps (0 = never; a full search, or the
-   surface walk of sim_collider_track_contacts when contact_walk is set: whichever the C solver
-   calls), Verlet, attachments, XPBD springs colour by colour, strain limiting colour by colour,
-   then per vertex tethers and collision response; after the last step the post-stabilisation. */
+/* The tryon solver's iterations of one frame in one work-group: the stages of the frame's list
+   (kernels/solver_params.h) after the first two, which the host runs as commands of their own,
+   as sim/solver_c.c runs them, a barrier after each pass. The settings in p
+   (kernels/solver_params.h, filled by sim/frame_settings.c for both backends), then the buffers
+   in the order sim/cl_backend.c iterations sets them. */
 __kernel void sim_iterations_tryon(
-    __global float4 *x, __global float4 *x_prev, int nv, __global const int2 *ends,
-    __global const float *rest, __global const uchar *kind, __global const int *color_start,
-    int num_colors, int num_stretch_colors, float4 alpha, __global const int *tether_anchor,
-    __global const float *tether_len, float limit, float keep, float4 g, int iters,
-    int contact_every, int nleaves, __global const int2 *child, __global const int *order,
+    const sim_solver_params p, __global float4 *x, __global float4 *x_prev,
+    __global const int2 *ends, __global const float *rest, __global const uchar *kind,
+    __global const int *color_start, __global const int *tether_anchor,
+    __global const float *tether_len, __global const int2 *child, __global const int *order,
     __global const float4 *lo, __global const float4 *hi, __global const float4 *v,
     __global const int4 *tris, __global const float4 *nrm, __global const int4 *nbr,
-    __global const int *vt_start, __global const int *vt_list, float radius, float h, float mu,
-    __global int *contact, int contact_walk, __global const sim_attachment *att, int natt,
-    __global const float4 *att_from, __global const float4 *att_to, int hier_levels,
-    __global const int *hier_level_start, __global const int *hier_vertex,
-    __global const int *hier_parent_start, __global const int *hier_parent,
-    __global const float *hier_rest, int post_rounds, int settle_tests, int settle_batch,
-    float settle_progress, float settle_strain, __global int *settle_rounds, int support,
+    __global const int *vt_start, __global const int *vt_list, __global int *contact,
+    __global const sim_attachment *att, __global const float4 *att_from,
+    __global const float4 *att_to, __global const int *hier_level_start,
+    __global const int *hier_vertex, __global const int *hier_parent_start,
+    __global const int *hier_parent, __global const float *hier_rest, __global int *settle_rounds,
     __global const int *adj_start, __global const int *adj_spring, __global int *level,
-    __global int *front, float rest_tol)
+    __global int *front)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     __local int settle_max, support_key, support_root, support_count;
-    for (int it = 0; it < iters; it++) {
-        int refresh = contact_every > 0 && it > 0 && it % contact_every == 0;
-        for (int i = lid; i < nv; i += L) {
-            if (refresh && contact_walk) {
-                sim_track_contact_one(x, i, nleaves, child, order, lo, hi, v, tris, vt_start,
-                                      vt_list, radius, contact);
-            } else if (refresh) {
-                contact[i] =
-                    sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
-            }
-            sim_verlet_one(x, x_prev, i, keep, g);
-        }
-        /* Attached vertices have w = 0, so Verlet left them alone: no race. */
-        for (int a = lid; a < natt; a += L)
-            sim_place_attachment(x, x_prev, att, att_from, att_to, a, it, iters);
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        for (int col = 0; col < num_colors; col++) {
-            for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
-                sim_project_spring(x, ends, rest, kind, alpha, s);
-            barrier(CLK_GLOBAL_MEM_FENCE);
-        }
-        /* the strain limit after shear and bend, which may stretch what it fixed */
-        sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
-        /* per vertex: tethers (anchors are attached and do not move), then the contact */
-        for (int i = lid; i < nv; i += L) {
-            sim_tether_one(x, tether_anchor, tether_len, i, limit);
-            sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
-        }
-        barrier(CLK_GLOBAL_MEM_FENCE);
-    }
-    /* post-stabilisation (iterations_tryon): the hierarchy level by level, a strain-limit sweep,
-       tethers, velocities kept, then the contacts; then post_rounds (SIM_POST_ROUNDS) more rounds
-       of sweep, tethers and contacts, the hierarchy only in the first (r = -1); then the settle
-       rounds (sim/solver_c.c settle_rounds): while the largest stretch strain is above
-       settle_strain, settle_batch more, up to settle_tests batches, and in a frame that does not
-       refresh its contacts only while each batch takes enough off it (settle_progress); a frame
-       that does searches them once more before the first. The maximum is the same float as C's
-       (non-negative floats order as their bits), so is the branch. */
+    const int nv = p.nv, num_colors = p.num_colors, num_stretch_colors = p.num_stretch_colors,
+              iters = p.iters, contact_every = p.contact_every, nleaves = p.nleaves, natt = p.natt,
+              hier_levels = p.hier_levels, settle_batch = p.settle_batch;
+    const float limit = p.limit, keep = p.keep, radius = p.radius, h = p.h, mu = p.mu,
+                settle_progress = p.settle_progress, settle_strain = p.settle_strain,
+                rest_tol = p.rest_tol;
+    const float4 alpha = (float4)(p.alpha[0], p.alpha[1], p.alpha[2], 0.0f);
+    const float4 g = (float4)(p.g[0], p.g[1], p.g[2], 0.0f);
     if (lid == 0)
         *settle_rounds = 0;
-    int nstretch = color_start[num_stretch_colors];
+    int nstretch = color_start[num_stretch_colors], stop = 0;
     float prev = 0.0f;
-    for (int r = -1;; r++) {
-        int extra = r - post_rounds;
-        if (extra >= 0 && extra % settle_batch == 0) {
-            if (extra / settle_batch >= settle_tests)
-                break;
-            if (lid == 0)
-                settle_max = 0;
-            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-            float m = 0.0f;
-            for (int s = lid; s < nstretch; s += L) {
-                if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
+    /* every work-item walks the same stages and takes the same branches (stop: the same maximum) */
+    for (int b = 0; b < SIM_BLOCKS && !stop; b++)
+        for (int rep = 0; rep < sim_block_repeats(b, &p) && !stop; rep++)
+            for (int k = sim_block_start[b]; k < sim_block_start[b + 1] && !stop; k++) {
+                int stage = sim_frame_stages[k];
+                if (!sim_stage_runs(stage, b, rep, &p))
                     continue;
-                float4 a = x[ends[s].x], b = x[ends[s].y];
-                float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
-                float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
-                if (!(e == e))
-                    e = INFINITY;
-                if (e > m)
-                    m = e;
-            }
-            atomic_max(&settle_max, as_int(m));
-            barrier(CLK_LOCAL_MEM_FENCE);
-            float mx = as_float(settle_max);
-            if (!(mx > settle_strain) ||
-                (contact_every == 0 && extra > 0 && !(mx < settle_progress * prev)))
-                break;
-            prev = mx;
-        }
-        for (int i = lid; i < nv; i += L) {
-            if (extra == 0 && contact_every > 0)
-                contact[i] =
-                    sim_contact_search(nleaves, child, order, lo, hi, v, tris, x[i], radius);
-            sim_post_begin_one(x, x_prev, i);
-        }
-        barrier(CLK_GLOBAL_MEM_FENCE);
-        for (int l = 0; r < 0 && l < hier_levels; l++) {
-            for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
-                sim_strain_hierarchy_one(x, x_prev, hier_vertex, hier_parent_start, hier_parent,
-                                         hier_rest, e, limit);
-            barrier(CLK_GLOBAL_MEM_FENCE);
-        }
-        /* the support hierarchy (sim/solver_c.c support_hierarchy): the root, the highest of the
-           vertices resting on an upward face (the lowest index among equals), then breadth first
-           from it, each new level's vertices claimed by compare-and-swap on their level (so the
-           levels are C's, whatever the order) and pulled once all are known: a vertex reads only
-           its parents, final a level before. front: two lists of nv vertices. */
-        if (r < 0 && support) {
-            if (lid == 0) {
-                support_key = INT_MIN;
-                support_root = INT_MAX;
-            }
-            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-            for (int i = lid; i < nv; i += L) {
-                level[i] = -1;
-                if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f)
-                    atomic_max(&support_key, sim_float_order(x[i].y));
-            }
-            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-            for (int i = lid; i < nv; i += L) {
-                if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f &&
-                    sim_float_order(x[i].y) == support_key)
-                    atomic_min(&support_root, i);
-            }
-            barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-            int root = support_root, n = root == INT_MAX ? 0 : 1;
-            if (lid == 0 && n) {
-                level[root] = 0;
-                front[0] = root;
-            }
-            for (int l = 0; n > 0; l++) {
-                __global int *cur = front + (l & 1) * nv, *next = front + (~l & 1) * nv;
-                if (lid == 0)
-                    support_count = 0;
-                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                for (int f = lid; f < n; f += L) {
-                    int i = cur[f];
-                    for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
-                        int sp = adj_spring[k];
-                        int u = ends[sp].x == i ? ends[sp].y : ends[sp].x;
-                        if (atomic_cmpxchg((volatile __global int *)&level[u], -1, l + 1) == -1)
-                            next[atomic_inc(&support_count)] = u;
+                switch (stage) {
+                case SIM_STAGE_START:
+                case SIM_STAGE_CONTACTS:
+                    break; /* the commands before this kernel (sim/cl_backend.c cl_frame) */
+                case SIM_STAGE_STEP: {
+                    int refresh = contact_every > 0 && rep > 0 && rep % contact_every == 0;
+                    for (int i = lid; i < nv; i += L) {
+                        if (refresh)
+                            contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
+                                                            x[i], radius);
+                        sim_verlet_one(x, x_prev, i, keep, g);
                     }
+                    /* Attached vertices have w = 0, so Verlet left them alone: no race. */
+                    for (int a = lid; a < natt; a += L)
+                        sim_place_attachment(x, x_prev, att, att_from, att_to, a, rep, iters);
+                    barrier(CLK_GLOBAL_MEM_FENCE);
+                    break;
                 }
-                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                n = support_count;
-                for (int f = lid; f < n; f += L)
-                    sim_support_pull_one(x, x_prev, ends, rest, adj_start, adj_spring, level,
-                                         next[f], limit);
-                barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                case SIM_STAGE_SPRINGS:
+                    for (int col = 0; col < num_colors; col++) {
+                        for (int s = color_start[col] + lid; s < color_start[col + 1]; s += L)
+                            sim_project_spring(x, ends, rest, kind, alpha, s);
+                        barrier(CLK_GLOBAL_MEM_FENCE);
+                    }
+                    break;
+                case SIM_STAGE_SWEEP:
+                    sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
+                    break;
+                case SIM_STAGE_VERTICES: {
+                    int close = sim_vertices_close(b), open = sim_vertices_open(b, rep, &p);
+                    for (int i = lid; i < nv; i += L) {
+                        sim_tether_one(x, tether_anchor, tether_len, i, limit);
+                        if (close)
+                            sim_post_end_one(x, x_prev, i);
+                        sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list,
+                                        h, mu);
+                        if (open)
+                            sim_post_begin_one(x, x_prev, i);
+                    }
+                    barrier(CLK_GLOBAL_MEM_FENCE);
+                    if (lid == 0 && b == SIM_BLOCK_SETTLE)
+                        *settle_rounds = rep + 1;
+                    break;
+                }
+                case SIM_STAGE_HIERARCHY:
+                    for (int l = 0; l < hier_levels; l++) {
+                        for (int e = hier_level_start[l] + lid; e < hier_level_start[l + 1]; e += L)
+                            sim_strain_hierarchy_one(x, x_prev, hier_vertex, hier_parent_start,
+                                                     hier_parent, hier_rest, e, limit);
+                        barrier(CLK_GLOBAL_MEM_FENCE);
+                    }
+                    break;
+                case SIM_STAGE_SUPPORT: {
+                    if (lid == 0) {
+                        support_key = INT_MIN;
+                        support_root = INT_MAX;
+                    }
+                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                    for (int i = lid; i < nv; i += L) {
+                        level[i] = -1;
+                        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f)
+                            atomic_max(&support_key, sim_float_order(x[i].y));
+                    }
+                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                    for (int i = lid; i < nv; i += L) {
+                        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f &&
+                            sim_float_order(x[i].y) == support_key)
+                            atomic_min(&support_root, i);
+                    }
+                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                    int root = support_root, n = root == INT_MAX ? 0 : 1;
+                    if (lid == 0 && n) {
+                        level[root] = 0;
+                        front[0] = root;
+                    }
+                    for (int l = 0; n > 0; l++) {
+                        __global int *cur = front + (l & 1) * nv, *next = front + (~l & 1) * nv;
+                        if (lid == 0)
+                            support_count = 0;
+                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                        for (int f = lid; f < n; f += L) {
+                            int i = cur[f];
+                            for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
+                                int sp = adj_spring[k];
+                                int u = ends[sp].x == i ? ends[sp].y : ends[sp].x;
+                                if (atomic_cmpxchg((volatile __global int *)&level[u], -1, l + 1) ==
+                                    -1)
+                                    next[atomic_inc(&support_count)] = u;
+                            }
+                        }
+                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                        n = support_count;
+                        for (int f = lid; f < n; f += L)
+                            sim_support_pull_one(x, x_prev, ends, rest, adj_start, adj_spring,
+                                                 level, next[f], limit);
+                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                    }
+                    break;
+                }
+                case SIM_STAGE_SETTLE_TEST: {
+                    /* the largest stretch strain: the same float as C's (non-negative floats
+                       order as their bits), so is the branch */
+                    if (lid == 0)
+                        settle_max = 0;
+                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+                    float m = 0.0f;
+                    for (int s = lid; s < nstretch; s += L) {
+                        if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
+                            continue;
+                        float4 a = x[ends[s].x], c = x[ends[s].y];
+                        float dx = c.x - a.x, dy = c.y - a.y, dz = c.z - a.z;
+                        float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
+                        if (!(e == e))
+                            e = INFINITY;
+                        if (e > m)
+                            m = e;
+                    }
+                    atomic_max(&settle_max, as_int(m));
+                    barrier(CLK_LOCAL_MEM_FENCE);
+                    float mx = as_float(settle_max);
+                    if (!(mx > settle_strain) ||
+                        (contact_every == 0 && rep > 0 && !(mx < settle_progress * prev)))
+                        stop = 1;
+                    prev = mx;
+                    break;
+                }
+                case SIM_STAGE_REOPEN:
+                    for (int i = lid; i < nv; i += L) {
+                        if (rep == 0 && contact_every > 0)
+                            contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
+                                                            x[i], radius);
+                        sim_post_begin_one(x, x_prev, i);
+                    }
+                    barrier(CLK_GLOBAL_MEM_FENCE);
+                    break;
+                default:
+                    break;
+                }
             }
-        }
-        sim_strain_sweep(x, ends, rest, kind, color_start, num_stretch_colors, limit);
-        for (int i = lid; i < nv; i += L) {
-            sim_tether_one(x, tether_anchor, tether_len, i, limit);
-            sim_post_end_one(x, x_prev, i);
-            sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, h, mu);
-        }
-        if (lid == 0 && extra >= 0)
-            *settle_rounds = extra + 1;
-    }
+}
+
+/* The layout of sim_solver_params as this device compiles it: its size and the offset of its
+   last field, in bytes (test_cl_backend compares them with the host's). */
+__kernel void sim_solver_params_layout(__global int *out)
+{
+    sim_solver_params p;
+    out[0] = (int)sizeof(sim_solver_params);
+    out[1] = (int)((__private char *)&p.rest_tol - (__private char *)&p);
 }

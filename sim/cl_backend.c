@@ -13,13 +13,11 @@
 
 #include "cl_collide.h"
 #include "cloth.h"
+#include "frame_settings.h"
 
 /* Work-group size cap of the iterations kernel: every work-item strides over vertices and
    springs; larger groups only add barrier cost on a CPU device. */
 #define ITER_GROUP_MAX 1024
-/* Contact refresh inside the iterations, as sim/solver_c.c iterations_tryon does it: 0 = the full
-   search (sim_collider_find_contacts), 1 = the surface walk (sim_collider_track_contacts). */
-#define CONTACT_WALK 0
 
 typedef struct cl_state {
     sim_cl cl;
@@ -124,8 +122,8 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         snprintf(err, err_size, "OpenCL backend: out of memory");
         return -SIM_ERR_NO_MEMORY;
     }
-    const char *files[] = {SIM_CL_COLLIDE_FILES, "springs.cl"};
-    if (sim_cl_open(&c->cl, err, err_size) != 0 || sim_cl_build(&c->cl, files, 4, err, err_size) ||
+    const char *files[] = {SIM_CL_COLLIDE_FILES, "solver_params.h", "springs.cl"};
+    if (sim_cl_open(&c->cl, err, err_size) != 0 || sim_cl_build(&c->cl, files, 5, err, err_size) ||
         sim_cl_collide_create(&c->g, &c->cl, s->desc.max_body_vertices, s->desc.max_body_triangles,
                               k->nv, err, err_size) != 0)
         goto fail;
@@ -227,7 +225,7 @@ static cl_int attachments(cl_state *c, const sim_cloth *k)
 }
 
 /* The moving frame of this body frame (sim/follow.c), on the device and on the host copy (which
-   frame_travel reads): the same bits. */
+   sim_step_travel2 reads): the same bits. */
 static cl_int follow(cl_state *c, struct sim *s)
 {
     sim_cloth *k = &s->cloth;
@@ -252,100 +250,54 @@ static cl_int follow(cl_state *c, struct sim *s)
     return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
-/* Twin of frame_travel in sim/solver_c.c: how far the fastest point would go this frame at its
-   current speed. On the host copy, which matches the device: feature points move x and x_prev
-   together, so they do not change it. */
-static float frame_travel(const sim_cloth *c, int iters)
-{
-    float m2 = 0.0f;
-    for (int i = 0; i < c->nv; i++) {
-        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
-                      c->x[i][2] - c->x_prev[i][2]};
-        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    return sqrtf(m2) * (float)iters;
-}
-
-/* Constants exactly as c_frame / iterations_tryon compute them. */
+/* The frame's iterations: the settings (sim_solver_params_fill, as the C backend reads them) by
+   value, then the buffers in sim_iterations_tryon's order (kernels/springs.cl). */
 static cl_int iterations(cl_state *c, const struct sim *s, int iters)
 {
     const sim_cloth *k = &s->cloth;
-    float dt = s->desc.frame_dt_s / (float)iters;
-    float keep = s->desc.damping > 0.0f ? powf(1.0f - s->desc.damping, dt) : 1.0f;
-    cl_float4 g = {{0.0f, -s->desc.gravity_m_s2 * dt * dt, 0.0f, 0.0f}};
-    cl_float4 alpha = {{0.0f, 0.0f, 0.0f, 0.0f}};
-    for (int i = 0; i < SIM_SPRING_KINDS; i++)
-        alpha.s[i] = k->k[i] > 0.0f ? 1.0f / (k->k[i] * dt * dt) : 1e30f;
-    float limit = s->desc.strain_limit;
-    /* contacts refreshed only while the cloth moves fast, as iterations_tryon decides */
-    int every = frame_travel(k, iters) > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
-    const sim_collider *col = s->collider;
-    float radius = col->d.thickness_m + col->d.reach_m, h = col->d.thickness_m,
-          mu = col->d.friction;
+    sim_solver_params p;
+    sim_solver_params_fill(s, iters, &p);
+    /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
+    /* on the host copy, which matches the device: feature points move x and x_prev together, so
+       they do not change the travel */
+    p.contact_every = sim_contact_every(sim_step_travel2(k, 0, k->nv), iters);
+    p.nleaves = c->g.nt;
+    const cl_mem bufs[] = {c->x,
+                           c->x_prev,
+                           c->ends,
+                           c->rest,
+                           c->kind,
+                           c->color_start,
+                           c->anchor,
+                           c->tlen,
+                           c->g.child,
+                           c->g.order,
+                           c->g.lo,
+                           c->g.hi,
+                           c->g.v,
+                           c->g.tris,
+                           c->g.n,
+                           c->g.nbr,
+                           c->g.vt_start,
+                           c->g.vt_list,
+                           c->g.contact,
+                           c->attach,
+                           c->att_from,
+                           c->att_to,
+                           c->hier_level_start,
+                           c->hier_vertex,
+                           c->hier_parent_start,
+                           c->hier_parent,
+                           c->hier_rest,
+                           c->settle,
+                           c->adj_start,
+                           c->adj_spring,
+                           c->level,
+                           c->front};
     cl_kernel it = c->k_iter;
-    cl_mem anchor = c->anchor, tlen = c->tlen;
-    int nstretch = k->num_stretch_colors, nt = c->g.nt;
-    cl_int st = ARG(it, 0, c->x);
-    st |= ARG(it, 1, c->x_prev);
-    st |= ARG(it, 2, k->nv);
-    st |= ARG(it, 3, c->ends);
-    st |= ARG(it, 4, c->rest);
-    st |= ARG(it, 5, c->kind);
-    st |= ARG(it, 6, c->color_start);
-    st |= ARG(it, 7, k->num_colors);
-    st |= ARG(it, 8, nstretch);
-    st |= ARG(it, 9, alpha);
-    st |= ARG(it, 10, anchor);
-    st |= ARG(it, 11, tlen);
-    st |= ARG(it, 12, limit);
-    st |= ARG(it, 13, keep);
-    st |= ARG(it, 14, g);
-    st |= ARG(it, 15, iters);
-    st |= ARG(it, 16, every);
-    st |= ARG(it, 17, nt);
-    st |= ARG(it, 18, c->g.child);
-    st |= ARG(it, 19, c->g.order);
-    st |= ARG(it, 20, c->g.lo);
-    st |= ARG(it, 21, c->g.hi);
-    st |= ARG(it, 22, c->g.v);
-    st |= ARG(it, 23, c->g.tris);
-    st |= ARG(it, 24, c->g.n);
-    st |= ARG(it, 25, c->g.nbr);
-    st |= ARG(it, 26, c->g.vt_start);
-    st |= ARG(it, 27, c->g.vt_list);
-    st |= ARG(it, 28, radius);
-    st |= ARG(it, 29, h);
-    st |= ARG(it, 30, mu);
-    st |= ARG(it, 31, c->g.contact);
-    int walk = CONTACT_WALK;
-    st |= ARG(it, 32, walk);
-    st |= ARG(it, 33, c->attach);
-    st |= ARG(it, 34, k->num_attachments);
-    st |= ARG(it, 35, c->att_from);
-    st |= ARG(it, 36, c->att_to);
-    st |= ARG(it, 37, k->hier_levels);
-    st |= ARG(it, 38, c->hier_level_start);
-    st |= ARG(it, 39, c->hier_vertex);
-    st |= ARG(it, 40, c->hier_parent_start);
-    st |= ARG(it, 41, c->hier_parent);
-    st |= ARG(it, 42, c->hier_rest);
-    int rounds = SIM_POST_ROUNDS, tests = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH,
-        batch = SIM_SETTLE_BATCH;
-    float settle_strain = SIM_SETTLE_STRAIN, settle_progress = SIM_SETTLE_PROGRESS;
-    st |= ARG(it, 43, rounds);
-    st |= ARG(it, 44, tests);
-    st |= ARG(it, 45, batch);
-    st |= ARG(it, 46, settle_progress);
-    st |= ARG(it, 47, settle_strain);
-    st |= ARG(it, 48, c->settle);
-    int support = s->desc.support && k->num_attachments == 0;
-    float rest_tol = SIM_REST_TOL_M;
-    st |= ARG(it, 49, support);
-    st |= ARG(it, 50, c->adj_start);
-    st |= ARG(it, 51, c->adj_spring);
-    st |= ARG(it, 52, c->level);
-    st |= ARG(it, 53, c->front);
-    st |= ARG(it, 54, rest_tol);
+    cl_int st = clSetKernelArg(it, 0, sizeof p, &p);
+    for (cl_uint i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
+        st |= clSetKernelArg(it, i + 1, sizeof bufs[i], &bufs[i]);
     if (st != CL_SUCCESS)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;

@@ -240,13 +240,3 @@ cl_kernel sim_cl_kernel(const sim_cl *cl, const char *name, char *err, size_t er
     }
     return k;
 }
-
-cl_int sim_cl_args(cl_kernel k, int count, const size_t *sizes, const void *const *values)
-{
-    for (int i = 0; i < count; i++) {
-        cl_int st = clSetKernelArg(k, (cl_uint)i, sizes[i], values[i]);
-        if (st != CL_SUCCESS)
-            return st;
-    }
-    return CL_SUCCESS;
-}

@@ -65,7 +65,4 @@ cl_kernel sim_cl_kernel(const sim_cl *cl, const char *name, char *err, size_t er
         }                                                                                          \
     } while (0)
 
-/* Set kernel arguments in order; returns the first failing status or CL_SUCCESS. */
-cl_int sim_cl_args(cl_kernel k, int count, const size_t *sizes, const void *const *values);
-
 #endif

@@ -25,7 +25,6 @@ struct sim_scene {
     int has_joints;
     int kind;   /* 0 sphere, 1 body model, 2 capsule figure */
     int motion; /* -1 = all, -2 = a motion-capture clip */
-    char describe[96];
 #ifdef SIM_HAVE_BODYFIT
     fit_model *model;
     fit_clip *clip; /* a motion-capture clip (motion FILE.bvh), else NULL */
@@ -106,7 +105,6 @@ sim_scene *sim_scene_sphere(float radius_m, const float centre[3], int n_triangl
         return NULL;
     sphere_mesh(sc->rest, sc->tris, rings, segs, radius_m, centre);
     memcpy(sc->xyz, sc->rest, (size_t)sc->nv * 3 * sizeof *sc->xyz);
-    snprintf(sc->describe, sizeof sc->describe, "sphere r=%.2f m, %d triangles", radius_m, sc->nt);
     return sc;
 }
 
@@ -223,8 +221,6 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     sc->motion = m;
     sc->has_joints = 1;
     memcpy(sc->tris, fit_model_triangles(model), (size_t)sc->nt * 3 * sizeof *sc->tris);
-    snprintf(sc->describe, sizeof sc->describe, "body model (%d vertices), motion %s", sc->nv,
-             motion);
     if (is_bvh(motion) && load_clip(sc, motion, err, err_size) != 0) {
         sim_scene_destroy(sc);
         return NULL;
@@ -321,8 +317,6 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     }
     sc->kind = 2;
     sc->motion = m;
-    snprintf(sc->describe, sizeof sc->describe, "capsule figure (bodyfit not linked), motion %s",
-             motion);
     return sc;
 }
 
@@ -360,8 +354,3 @@ double sim_scene_duration(const sim_scene *sc)
     return sc->kind == 2 ? (sc->motion < 0 ? all_duration() : 1e9) : 1e9;
 }
 #endif
-
-const char *sim_scene_describe(const sim_scene *sc)
-{
-    return sc->describe;
-}

@@ -1,7 +1,6 @@
 /* The per-frame driver: validation, the body frames, the backend, divergence detection and
  * recovery, and the published metrics. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,23 +8,6 @@
 
 #include "carry.h"
 #include "cloth.h"
-
-#define SIM_ERROR_NAME(id, text) #id,
-#define SIM_ERROR_TEXT(id, text) text,
-static const char *const error_names[] = {SIM_ERROR_LIST(SIM_ERROR_NAME)};
-static const char *const error_texts[] = {SIM_ERROR_LIST(SIM_ERROR_TEXT)};
-
-const char *sim_error_name(int e)
-{
-    e = e < 0 ? -e : e;
-    return e < SIM_ERROR_COUNT ? error_names[e] : "SIM_ERR_UNKNOWN";
-}
-
-const char *sim_error_text(int e)
-{
-    e = e < 0 ? -e : e;
-    return e < SIM_ERROR_COUNT ? error_texts[e] : "unknown error";
-}
 
 const char *sim_state_name(sim_state s)
 {
@@ -40,18 +22,6 @@ const char *sim_state_name(sim_state s)
         return "carried";
     }
     return "unknown";
-}
-
-int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)
-{
-    if (why) {
-        why->code = code;
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
-        va_end(ap);
-    }
-    return -(int)code;
 }
 
 static void save_good(sim *s);

@@ -12,6 +12,7 @@
 #endif
 
 #include "cloth.h"
+#include "frame_settings.h"
 #include "phases.h"
 
 typedef struct c_state {
@@ -24,7 +25,7 @@ typedef struct c_state {
        floats order as their bits), maxed over the threads */
     _Atomic uint32_t settle[SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH];
     int settle_rounds; /* run in the last frame */
-    /* the frame's start in the team (frame_start): feature points moved, and the fastest cloth
+    /* the frame's start in the team (stage_start): feature points moved, and the fastest cloth
        point's squared travel in a step as float bits (non-negative floats order as their bits) */
     atomic_int fp_moved;
     _Atomic uint32_t travel2;
@@ -159,18 +160,6 @@ static void place_attachments(struct sim *s, const c_state *cs, int it, int iter
     }
 }
 
-/* The largest squared distance a cloth point of [b, e) moves in a step at its current velocity. */
-static float step_travel2(const sim_cloth *c, int b, int e)
-{
-    float m2 = 0.0f;
-    for (int i = b; i < e; i++) {
-        float d[3] = {c->x[i][0] - c->x_prev[i][0], c->x[i][1] - c->x_prev[i][1],
-                      c->x[i][2] - c->x_prev[i][2]};
-        m2 = fmaxf(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    return m2;
-}
-
 /* m into the float bits at *max when larger (non-negative floats order as their bits). */
 static void atomic_max_bits(_Atomic uint32_t *max, float m)
 {
@@ -192,13 +181,25 @@ static float bits_float(_Atomic uint32_t *bits)
 #define GRAIN_SPRINGS  256
 #define GRAIN_VERTICES 512
 
-/* The phases of a frame of the tryon iterations (one per pass, as iterations_tryon runs them). */
-static int tryon_phases(const sim_cloth *c, int iters)
+/* The phases of a frame (sim_phases_reset's count): each stage of the frame's list
+   (kernels/solver_params.h) that runs, its phases (one per pass, a spring pass one per colour). */
+static int stage_phases(int st, const sim_solver_params *p)
 {
-    int step = 2 + c->num_colors + c->num_stretch_colors;
-    return 2 + iters * step + 3 + (SIM_POST_ROUNDS + 1) * (c->num_stretch_colors + 1) +
-           SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH *
-               (1 + SIM_SETTLE_BATCH * (c->num_stretch_colors + 2));
+    return st == SIM_STAGE_SPRINGS   ? p->num_colors
+           : st == SIM_STAGE_SWEEP   ? p->num_stretch_colors
+           : st == SIM_STAGE_SUPPORT ? 2
+                                     : 1;
+}
+
+static int tryon_phases(const sim_solver_params *p)
+{
+    int n = 0;
+    for (int b = 0; b < SIM_BLOCKS; b++)
+        for (int rep = 0; rep < sim_block_repeats(b, p); rep++)
+            for (int k = sim_block_start[b]; k < sim_block_start[b + 1]; k++)
+                if (sim_stage_runs(sim_frame_stages[k], b, rep, p))
+                    n += stage_phases(sim_frame_stages[k], p);
+    return n;
 }
 
 /* One phase: springs [first, last) of one colour, XPBD (alpha) or the strain limit (!alpha). */
@@ -265,90 +266,184 @@ static void support_hierarchy(struct sim *s, c_state *cs, sim_phases *ph, sim_ph
     sim_phase_end(ph, cur, 0);
 }
 
-/* Settle rounds (cloth.h): the largest stretch strain measured by all, then, while it is above
- * SIM_SETTLE_STRAIN and the last batch took enough off it, SIM_SETTLE_BATCH more rounds of the
- * post-stabilisation (velocities kept, sweep, tethers, contacts). Every thread reads the same
- * maximum after the phase, so all take the same branch. */
-static void settle_rounds(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
-                          float limit, int refresh)
-{
-    sim_cloth *c = &s->cloth;
-    int nstretch = c->color_start[c->num_stretch_colors], b, e;
-    float prev = 0.0f;
-    for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++) {
-        while (sim_phase_claim(ph, cur, nstretch, GRAIN_SPRINGS, &b, &e))
-            atomic_max_bits(&cs->settle[k], sim_stretch_max((const float(*)[4])c->x, c->ends,
-                                                            c->rest, c->kind, b, e));
-        sim_phase_end(ph, cur, 1);
-        float m = bits_float(&cs->settle[k]);
-        if (!(m > SIM_SETTLE_STRAIN) || (!refresh && k > 0 && !(m < SIM_SETTLE_PROGRESS * prev)))
-            return;
-        prev = m;
-        for (int j = 0; j < SIM_SETTLE_BATCH; j++) {
-            while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e)) {
-                /* a frame fast enough to refresh its contacts in the steps moves far in these
-                   rounds too (a sheet landing on a sphere: cm): once more before them */
-                if (refresh && k == 0 && j == 0)
-                    sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
-                sim_post_begin(c->x, c->x_prev, b, e);
-            }
-            sim_phase_end(ph, cur, 0);
-            strain_limit_sweep(ph, cur, c, limit);
-            vertex_phase(s, ph, cur, limit, 1, 0, j + 1 == SIM_SETTLE_BATCH);
-        }
-        if (cur->thread == 0)
-            cs->settle_rounds = (k + 1) * SIM_SETTLE_BATCH;
-    }
-}
+/* What the stages of one thread share: the frame's place and its decisions (the same in every
+   thread: each reads them after the phase that makes them). */
+typedef struct frame_walk {
+    const sim_solver_params *p;
+    sim_phases *ph;
+    sim_phase_cursor cur;
+    int refresh;   /* contacts refreshed every this many steps (0: never) */
+    float prev;    /* the last settle test's largest strain */
+    double t_fp;   /* thread 0: when the start ended, */
+    double t_cont; /* and the contact search */
+} frame_walk;
 
-/* The frame's start, in the iterations' team (one team a frame: each team a thread joins after
- * sleeping costs it a wake-up, 30-60 us with OMP_WAIT_POLICY=passive). Per vertex chunk: the
- * moving frame, the feature points (each vertex's own sweep), the targets of the attachments on
- * those vertices (from where the moving frame put them), and the fastest point's travel; then the
- * contact search as a phase of its own. Thread 0 times the two. Returns the travel in a frame. */
-static float frame_start(struct sim *s, c_state *cs, sim_phases *ph, sim_phase_cursor *cur,
-                         int iters, double *t_fp, double *t_contacts)
+/* SIM_STAGE_START, per vertex chunk: the moving frame, the feature points (each vertex's own
+ * sweep), the targets of the attachments on those vertices (from where the moving frame put them),
+ * and the fastest point's travel. */
+static void stage_start(struct sim *s, c_state *cs, frame_walk *w)
 {
     sim_cloth *c = &s->cloth;
     int b, e;
-    while (sim_phase_claim(ph, cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+    while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e)) {
         if (s->follow_on)
             sim_follow(c->x, c->x_prev, b, e, s->follow_m);
         if (s->body.have_prev)
             atomic_fetch_add(&cs->fp_moved,
                              sim_collider_feature_points(s->collider, c->x, c->x_prev, b, e));
         attachment_targets(s, cs, b, e);
-        atomic_max_bits(&cs->travel2, step_travel2(c, b, e));
+        atomic_max_bits(&cs->travel2, sim_step_travel2(c, b, e));
     }
-    sim_phase_end(ph, cur, 1);
-    if (cur->thread == 0)
-        *t_fp = now_ms();
-    /* each thread's part whole: the search shares out its own (sim/find_contacts.c) */
-    while (sim_phase_claim(ph, cur, c->nv, c->nv, &b, &e))
-        sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
-    sim_phase_end(ph, cur, 1);
-    if (cur->thread == 0)
-        *t_contacts = now_ms();
-    return sqrtf(bits_float(&cs->travel2)) * (float)iters;
+    sim_phase_end(w->ph, &w->cur, 1);
+    if (w->cur.thread == 0)
+        w->t_fp = now_ms();
 }
 
-/* The tryon solver's frame: frame_start, the steps, the post-stabilisation, the settle rounds;
-   the stages' ms into st. */
-static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, float keep,
-                             const float g[3], sim_frame_stats *st)
+/* SIM_STAGE_CONTACTS: each thread's part whole (the search shares out its own,
+ * sim/find_contacts.c). Contacts are cached for the frame; when the cloth itself moves fast (a
+ * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are refreshed
+ * every few steps: reach / (steps * dt) is the fastest a point may approach the body unseen
+ * (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is carried by the feature points
+ * and the moving frame. */
+static void stage_contacts(struct sim *s, c_state *cs, frame_walk *w)
 {
     sim_cloth *c = &s->cloth;
-    float alpha[SIM_SPRING_KINDS];
-    for (int k = 0; k < SIM_SPRING_KINDS; k++)
-        alpha[k] = c->k[k] > 0.0f ? 1.0f / (c->k[k] * dt * dt) : 1e30f;
-    float limit = s->desc.strain_limit;
-    int support = s->desc.support && c->num_attachments == 0;
+    int b, e;
+    while (sim_phase_claim(w->ph, &w->cur, c->nv, c->nv, &b, &e))
+        sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+    sim_phase_end(w->ph, &w->cur, 1);
+    if (w->cur.thread == 0)
+        w->t_cont = now_ms();
+    w->refresh = sim_contact_every(bits_float(&cs->travel2), w->p->iters);
+}
+
+/* SIM_STAGE_STEP it, per vertex: the contacts refreshed, Verlet, the attachments placed (the
+ * previous phase's tethers were the last to read them). */
+static void stage_step(struct sim *s, c_state *cs, frame_walk *w, int it)
+{
+    sim_cloth *c = &s->cloth;
+    int b, e;
+    while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+        if (w->refresh && it > 0 && it % w->refresh == 0)
+            sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+        sim_verlet(c->x, c->x_prev, b, e, w->p->keep, w->p->g);
+        place_attachments(s, cs, it, w->p->iters, b, e);
+    }
+    sim_phase_end(w->ph, &w->cur, 1);
+}
+
+/* SIM_STAGE_SETTLE_TEST before settle round rep (cloth.h): the largest stretch strain measured
+ * by all; the rounds go on while it is above SIM_SETTLE_STRAIN and the last batch took enough off
+ * it. Every thread reads the same maximum after the phase, so all take the same branch. Returns
+ * 1 to stop. */
+static int stage_settle_test(struct sim *s, c_state *cs, frame_walk *w, int rep)
+{
+    sim_cloth *c = &s->cloth;
+    int nstretch = c->color_start[c->num_stretch_colors], b, e, k = rep / w->p->settle_batch;
+    while (sim_phase_claim(w->ph, &w->cur, nstretch, GRAIN_SPRINGS, &b, &e))
+        atomic_max_bits(&cs->settle[k],
+                        sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e));
+    sim_phase_end(w->ph, &w->cur, 1);
+    float m = bits_float(&cs->settle[k]);
+    if (!(m > SIM_SETTLE_STRAIN) || (!w->refresh && k > 0 && !(m < SIM_SETTLE_PROGRESS * w->prev)))
+        return 1;
+    w->prev = m;
+    return 0;
+}
+
+/* SIM_STAGE_REOPEN before settle round rep: the bracket opened; a frame fast enough to refresh
+ * its contacts in the steps moves far in these rounds too (a sheet landing on a sphere: cm), so
+ * they are searched once more before the first. */
+static void stage_reopen(struct sim *s, frame_walk *w, int rep)
+{
+    sim_cloth *c = &s->cloth;
+    int b, e;
+    while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e)) {
+        if (w->refresh && rep == 0)
+            sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+        sim_post_begin(c->x, c->x_prev, b, e);
+    }
+    sim_phase_end(w->ph, &w->cur, 0);
+}
+
+/* Stage st of block b, repetition rep. Returns 1 when the frame ends here (a settle test). */
+static int run_stage(struct sim *s, c_state *cs, frame_walk *w, int st, int b, int rep)
+{
+    sim_cloth *c = &s->cloth;
+    const sim_solver_params *p = w->p;
+    int reps = sim_block_repeats(b, p);
+    switch (st) {
+    case SIM_STAGE_START:
+        stage_start(s, cs, w);
+        break;
+    case SIM_STAGE_CONTACTS:
+        stage_contacts(s, cs, w);
+        break;
+    case SIM_STAGE_STEP:
+        stage_step(s, cs, w, rep);
+        break;
+    case SIM_STAGE_SPRINGS:
+        for (int col = 0; col < c->num_colors; col++)
+            springs_phase(w->ph, &w->cur, c, c->color_start[col], c->color_start[col + 1], p->alpha,
+                          p->limit);
+        break;
+    case SIM_STAGE_SWEEP:
+        strain_limit_sweep(w->ph, &w->cur, c, p->limit);
+        break;
+    case SIM_STAGE_VERTICES: {
+        /* sleepers woken at the end of the post rounds and of each settle batch */
+        int wake = (b == SIM_BLOCK_POST && rep + 1 == reps) ||
+                   (b == SIM_BLOCK_SETTLE && (rep + 1) % p->settle_batch == 0);
+        vertex_phase(s, w->ph, &w->cur, p->limit, sim_vertices_close(b),
+                     sim_vertices_open(b, rep, p), wake);
+        if (b == SIM_BLOCK_SETTLE && w->cur.thread == 0)
+            cs->settle_rounds = rep + 1;
+        break;
+    }
+    case SIM_STAGE_HIERARCHY: {
+        int e0, e1;
+        while (sim_phase_claim(w->ph, &w->cur, 1, 1, &e0, &e1))
+            sim_strain_hierarchy(c->x, c->x_prev, c->hier_vertex, c->hier_parent_start,
+                                 c->hier_parent, c->hier_rest, 0,
+                                 c->hier_level_start[c->hier_levels], p->limit);
+        sim_phase_end(w->ph, &w->cur, 0);
+        break;
+    }
+    case SIM_STAGE_SUPPORT:
+        support_hierarchy(s, cs, w->ph, &w->cur, p->limit);
+        break;
+    case SIM_STAGE_SETTLE_TEST:
+        return stage_settle_test(s, cs, w, rep);
+    case SIM_STAGE_REOPEN:
+        stage_reopen(s, w, rep);
+        break;
+    default:
+        break;
+    }
+    return 0;
+}
+
+/* The tryon solver's frame: the stages of kernels/solver_params.h in order, each shared out in
+ * phases among one OpenMP team (one team a frame: each team a thread joins after sleeping costs
+ * it a wake-up, 30-60 us with OMP_WAIT_POLICY=passive); the stages' ms into st.
+ *
+ * Post-stabilisation of the strain limit (docs/sim.md): one Gauss-Seidel sweep per step moves a
+ * correction about one spring, so a long region stretched a little stays stretched. The
+ * hierarchy from the attachments outward removes it in one pass, a sweep settles the springs
+ * within a level, the tethers hold; positions only, the velocities x - x_prev are kept (x_prev
+ * moves with x), then the contacts as in every step. Then SIM_POST_ROUNDS more rounds of sweep,
+ * tethers and contacts: the last contact push undoes strain where the body moved into the cloth
+ * in the last step (about the relative speed times the step: 20 % at 25 steps in the walk,
+ * docs/sim.md). Then the settle rounds. */
+static void iterations_tryon(struct sim *s, c_state *cs, const sim_solver_params *p,
+                             sim_frame_stats *st)
+{
     int threads = 1;
 #ifdef _OPENMP
     threads = omp_get_max_threads();
 #endif
     /* one phase per pass, shared out in chunks (phases.h); out of memory: one thread */
-    if (sim_phases_reset(&cs->phases, threads, tryon_phases(c, iters)) < 0)
+    if (sim_phases_reset(&cs->phases, threads, tryon_phases(p)) < 0)
         threads = 1, sim_phases_reset(&cs->phases, 1, 0);
     sim_phases *ph = &cs->phases;
     for (int k = 0; k < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH; k++)
@@ -356,70 +451,30 @@ static void iterations_tryon(struct sim *s, c_state *cs, int iters, float dt, fl
     cs->settle_rounds = 0;
     atomic_store(&cs->fp_moved, 0);
     atomic_store(&cs->travel2, 0u);
-    double t0 = now_ms(), t_fp = t0, t_contacts = t0;
+    double t0 = now_ms(), t_fp = t0, t_cont = t0;
 #pragma omp parallel num_threads(threads)
     {
-        sim_phase_cursor cur;
-        int t = 0, nt = 1, b, e;
+        int t = 0, nt = 1;
 #ifdef _OPENMP
         t = omp_get_thread_num();
         nt = omp_get_num_threads();
 #endif
-        sim_phase_cursor_init(&cur, t, nt < ph->threads ? nt : ph->threads);
-        /* contacts are cached at the start of the frame; when the cloth itself moves fast (a
-         * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are
-         * refreshed every few steps: reach / (steps * dt) is the fastest a point may approach
-         * the body unseen (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is
-         * carried by the feature points and the moving frame. The seed searches every step. */
-        int refresh = frame_start(s, cs, ph, &cur, iters, &t_fp, &t_contacts) > SIM_REFRESH_TRAVEL
-                          ? SIM_CONTACT_EVERY
-                          : 0;
-        for (int it = 0; it < iters; it++) {
-            /* per vertex: the contacts refreshed, Verlet, the attachments placed (the previous
-             * phase's tethers were the last to read them) */
-            while (sim_phase_claim(ph, &cur, c->nv, GRAIN_VERTICES, &b, &e)) {
-                if (refresh && it > 0 && it % refresh == 0)
-                    sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
-                sim_verlet(c->x, c->x_prev, b, e, keep, g);
-                place_attachments(s, cs, it, iters, b, e);
-            }
-            sim_phase_end(ph, &cur, 1);
-            for (int col = 0; col < c->num_colors; col++)
-                springs_phase(ph, &cur, c, c->color_start[col], c->color_start[col + 1], alpha,
-                              limit);
-            /* the strain limit after shear and bend, which may stretch what it fixed */
-            strain_limit_sweep(ph, &cur, c, limit);
-            /* after the last step the post-stabilisation's bracket opens (below) */
-            vertex_phase(s, ph, &cur, limit, 0, it == iters - 1, 0);
-        }
-        /* Post-stabilisation of the strain limit (docs/sim.md): one Gauss-Seidel sweep per step
-         * moves a correction about one spring, so a long region stretched a little stays
-         * stretched. The hierarchy from the attachments outward removes it in one pass, a sweep
-         * settles the springs within a level, the tethers hold; positions only, the velocities
-         * x - x_prev are kept (x_prev moves with x), then the contacts as in every step (r = -1).
-         * Then SIM_POST_ROUNDS more rounds of sweep, tethers and contacts (r >= 0): the last
-         * contact push undoes strain where the body moved into the cloth in the last step (about
-         * the relative speed times the step: 20 % at 25 steps in the walk, docs/sim.md). */
-        for (int r = -1; r < SIM_POST_ROUNDS; r++) {
-            if (r < 0) {
-                while (sim_phase_claim(ph, &cur, 1, 1, &b, &e))
-                    sim_strain_hierarchy(c->x, c->x_prev, c->hier_vertex, c->hier_parent_start,
-                                         c->hier_parent, c->hier_rest, 0,
-                                         c->hier_level_start[c->hier_levels], limit);
-                sim_phase_end(ph, &cur, 0);
-            }
-            if (r < 0 && support)
-                support_hierarchy(s, cs, ph, &cur, limit);
-            strain_limit_sweep(ph, &cur, c, limit);
-            vertex_phase(s, ph, &cur, limit, 1, r + 1 < SIM_POST_ROUNDS, r + 1 == SIM_POST_ROUNDS);
-        }
-        settle_rounds(s, cs, ph, &cur, limit, refresh);
+        frame_walk w = {.p = p, .ph = ph, .t_fp = t0, .t_cont = t0};
+        sim_phase_cursor_init(&w.cur, t, nt < ph->threads ? nt : ph->threads);
+        int stop = 0;
+        for (int b = 0; b < SIM_BLOCKS && !stop; b++)
+            for (int rep = 0; rep < sim_block_repeats(b, p) && !stop; rep++)
+                for (int k = sim_block_start[b]; k < sim_block_start[b + 1] && !stop; k++)
+                    if (sim_stage_runs(sim_frame_stages[k], b, rep, p))
+                        stop = run_stage(s, cs, &w, sim_frame_stages[k], b, rep);
+        if (t == 0)
+            t_fp = w.t_fp, t_cont = w.t_cont;
     }
     double t1 = now_ms();
     st->feature_points_moved = atomic_load(&cs->fp_moved);
     st->ms_feature_points = (float)(t_fp - t0);
-    st->ms_contacts = (float)(t_contacts - t_fp);
-    st->ms_iterations = (float)(t1 - t_contacts);
+    st->ms_contacts = (float)(t_cont - t_fp);
+    st->ms_iterations = (float)(t1 - t_cont);
     st->settle_rounds = cs->settle_rounds;
 }
 
@@ -452,7 +507,8 @@ static void iterations_seed(struct sim *s, c_state *cs, int iters, float dt, flo
 #pragma omp for schedule(static)
                 for (int s0 = c->color_start[col]; s0 < c->color_start[col + 1]; s0 += 64) {
                     int s1 = s0 + 64 < c->color_start[col + 1] ? s0 + 64 : c->color_start[col + 1];
-                    sim_provot_correct(c->x, c->ends, c->rest, c->kind, s0, s1, SIM_PROVOT_TAU);
+                    sim_clamp_springs(c->x, c->ends, c->rest, c->kind, s0, s1, SIM_KINDS_PROVOT,
+                                      SIM_PROVOT_TAU);
                 }
             }
             /* seed 000: the S-BVH is searched in every iteration */
@@ -472,13 +528,10 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
 {
     c_state *cs = state;
     sim_cloth *c = &s->cloth;
-    float dt = s->desc.frame_dt_s / (float)iters;
-    /* damping: the fraction of velocity lost per second, spread over the substeps */
-    float keep = s->desc.damping > 0.0f ? powf(1.0f - s->desc.damping, dt) : 1.0f;
-    float g[3] = {0.0f, -s->desc.gravity_m_s2 * dt * dt, 0.0f};
-
+    sim_solver_params p;
+    sim_solver_params_fill(s, iters, &p);
     if (s->desc.solver == SIM_SOLVER_TRYON) {
-        iterations_tryon(s, cs, iters, dt, keep, g, st);
+        iterations_tryon(s, cs, &p, st);
         return 0;
     }
     double t0 = now_ms();
@@ -492,7 +545,7 @@ static int c_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     double t1 = now_ms();
     st->ms_feature_points = (float)(t1 - t0);
     float ms_contacts = 0.0f;
-    iterations_seed(s, cs, iters, dt, keep, g, &ms_contacts);
+    iterations_seed(s, cs, iters, p.dt, p.keep, p.g, &ms_contacts);
     st->ms_contacts = ms_contacts;
     st->ms_iterations = (float)(now_ms() - t1) - ms_contacts;
     return 0;

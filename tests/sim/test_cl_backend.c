@@ -18,7 +18,9 @@
 
 #include <cmocka.h>
 
+#include "cl_collide.h"
 #include "cl_context.h"
+#include "solver_params.h"
 #include "sim.h"
 #include "test_collide_util.h"
 
@@ -112,10 +114,42 @@ static void test_cl_backend_agrees_with_c(void **state)
     free(tris);
 }
 
+/* sim_solver_params as the device compiles it: the host's size and last field's offset. */
+static void test_cl_solver_params_layout(void **state)
+{
+    (void)state;
+    if (!have_device())
+        skip();
+    sim_cl cl;
+    char err[256] = "";
+    const char *files[] = {SIM_CL_COLLIDE_FILES, "solver_params.h", "springs.cl"};
+    assert_int_equal(sim_cl_open(&cl, err, sizeof err), 0);
+    assert_int_equal(sim_cl_build(&cl, files, 5, err, sizeof err), 0);
+    cl_kernel k = sim_cl_kernel(&cl, "sim_solver_params_layout", err, sizeof err);
+    assert_non_null(k);
+    cl_int st;
+    cl_mem out = clCreateBuffer(cl.context, CL_MEM_WRITE_ONLY, 2 * sizeof(cl_int), NULL, &st);
+    assert_int_equal(st, CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 0, sizeof out, &out), CL_SUCCESS);
+    size_t one = 1;
+    assert_int_equal(clEnqueueNDRangeKernel(cl.queue, k, 1, NULL, &one, NULL, 0, NULL, NULL),
+                     CL_SUCCESS);
+    cl_int got[2] = {-1, -1};
+    assert_int_equal(clEnqueueReadBuffer(cl.queue, out, CL_TRUE, 0, sizeof got, got, 0, NULL, NULL),
+                     CL_SUCCESS);
+    printf("# device: sim_solver_params %d bytes, rest_tol at %d\n", got[0], got[1]);
+    assert_int_equal(got[0], (int)sizeof(sim_solver_params));
+    assert_int_equal(got[1], (int)offsetof(sim_solver_params, rest_tol));
+    clReleaseMemObject(out);
+    clReleaseKernel(k);
+    sim_cl_close(&cl);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cl_backend_agrees_with_c),
+        cmocka_unit_test(test_cl_solver_params_layout),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -90,7 +90,9 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
         float d[3] = {x0[ends[s][1]][0] - x0[ends[s][0]][0], x0[ends[s][1]][1] - x0[ends[s][0]][1],
                       x0[ends[s][1]][2] - x0[ends[s][0]][2]};
         rest[s] = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * wide_rand(&r, 0.8f, 1.05f);
-        kind[s] = (uint8_t)(s % 7 == 3 ? SIM_SPRING_BEND : SIM_SPRING_STRETCH);
+        kind[s] = (uint8_t)(s % 7 == 3   ? SIM_SPRING_BEND
+                            : s % 7 == 1 ? SIM_SPRING_SHEAR
+                                         : SIM_SPRING_STRETCH);
     }
     for (int i = 0; i < NV; i++) {
         anchor[i] = i % 5 == 0 ? -1 : perm[(i * 7) % NV];
@@ -98,7 +100,7 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
     }
     const float alpha[SIM_SPRING_KINDS] = {1e-3f, 2e-3f, 5e-2f};
     const float g[3] = {0.0f, -1e-4f, 0.0f};
-    for (int pass = 0; pass < 4; pass++) {
+    for (int pass = 0; pass < 5; pass++) {
         memcpy(xw, x0, sizeof x0);
         memcpy(xs, x0, sizeof x0);
         memcpy(pw, p0, sizeof p0);
@@ -111,6 +113,13 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
             sim_strain_limit(xw, (const int32_t(*)[2])ends, rest, kind, 0, NS, 0.01f);
             for (int s = 0; s < NS; s++)
                 sim_strain_limit(xs, (const int32_t(*)[2])ends, rest, kind, s, s + 1, 0.01f);
+        } else if (pass == 4) {
+            /* the clamp on stretch and shear (the seed's Provot correction) */
+            sim_clamp_springs(xw, (const int32_t(*)[2])ends, rest, kind, 0, NS, SIM_KINDS_PROVOT,
+                              0.02f);
+            for (int s = 0; s < NS; s++)
+                sim_clamp_springs(xs, (const int32_t(*)[2])ends, rest, kind, s, s + 1,
+                                  SIM_KINDS_PROVOT, 0.02f);
         } else if (pass == 3) {
             sim_verlet(xw, pw, 0, NV - 1, 0.999f, g);
             for (int i = 0; i < NV - 1; i++)
@@ -127,6 +136,36 @@ static void test_sim_spring_passes_wide_equal_scalar(void **state)
         }
         assert_memory_equal(xw, xs, sizeof xw);
         assert_memory_not_equal(xw, x0, sizeof xw); /* something moved */
+    }
+}
+
+/* The one clamp: which kinds it takes, and to what length. Three springs along x, each stretched
+   to 1.5 rest (ends of equal weight), one of each kind. */
+static void test_sim_clamp_kinds_by_hand(void **state)
+{
+    (void)state;
+    int32_t ends[3][2] = {{0, 1}, {2, 3}, {4, 5}};
+    float rest[3] = {1.0f, 1.0f, 1.0f};
+    uint8_t kind[3] = {SIM_SPRING_STRETCH, SIM_SPRING_SHEAR, SIM_SPRING_BEND};
+    for (int provot = 0; provot < 2; provot++) {
+        float x[6][4];
+        for (int i = 0; i < 6; i++) {
+            x[i][0] = i % 2 ? 1.5f : 0.0f;
+            x[i][1] = (float)(i / 2);
+            x[i][2] = 0.0f;
+            x[i][3] = 1.0f;
+        }
+        if (provot)
+            sim_clamp_springs(x, (const int32_t(*)[2])ends, rest, kind, 0, 3, SIM_KINDS_PROVOT,
+                              0.1f);
+        else
+            sim_strain_limit(x, (const int32_t(*)[2])ends, rest, kind, 0, 3, 0.1f);
+        /* stretch: always to 1.1 rest, each end moved half way; shear: only by Provot's; bend:
+           never */
+        assert_float_equal(x[1][0] - x[0][0], 1.1f, 1e-6f);
+        assert_float_equal(x[0][0], 0.2f, 1e-6f);
+        assert_float_equal(x[3][0] - x[2][0], provot ? 1.1f : 1.5f, 1e-6f);
+        assert_float_equal(x[5][0] - x[4][0], 1.5f, 1e-6f);
     }
 }
 
@@ -226,6 +265,7 @@ int main(void)
         cmocka_unit_test(test_sim_strain_stats_match_sort),
         cmocka_unit_test(test_sim_project_spring_by_hand),
         cmocka_unit_test(test_sim_spring_passes_wide_equal_scalar),
+        cmocka_unit_test(test_sim_clamp_kinds_by_hand),
         cmocka_unit_test(test_sim_spring_force_by_hand),
         cmocka_unit_test(test_sim_frame_free_fall),
     };

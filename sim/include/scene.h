@@ -28,6 +28,5 @@ int sim_scene_segment(const sim_scene *sc, double t_s, double *local_s);
 int sim_scene_all_segment(double t_s, double *local_s); /* the same for "all", without a scene */
 int sim_scene_segment_count(void);
 const char *sim_scene_segment_name(int k); /* "still", ...; "none" out of range */
-const char *sim_scene_describe(const sim_scene *sc);
 
 #endif
