@@ -195,9 +195,38 @@ static void glue(const float *p, const float *xyz, const int32_t *tris, int t, s
     at->offset_m = h;
 }
 
+/* Each triangle's bounding sphere (centre, radius a little padded against rounding), so that the
+ * nearest-triangle scans below skip triangles that cannot be nearer than the best so far: the
+ * shirt's glue and a rebind scan the whole body once per column, which took tens of ms. */
+typedef struct tri_spheres {
+    float (*c)[4]; /* x, y, z, radius */
+} tri_spheres;
+
+static int tri_spheres_make(tri_spheres *s, const float *xyz, const int32_t *tris, int nt)
+{
+    s->c = malloc((size_t)(nt > 0 ? nt : 1) * sizeof *s->c);
+    if (!s->c)
+        return -1;
+    for (int t = 0; t < nt; t++) {
+        const int32_t *v = &tris[t * 3];
+        float r2 = 0.0f;
+        for (int k = 0; k < 3; k++)
+            s->c[t][k] = (xyz[v[0] * 3 + k] + xyz[v[1] * 3 + k] + xyz[v[2] * 3 + k]) / 3.0f;
+        for (int i = 0; i < 3; i++) {
+            const float *q = &xyz[v[i] * 3];
+            float d2 = (q[0] - s->c[t][0]) * (q[0] - s->c[t][0]) +
+                       (q[1] - s->c[t][1]) * (q[1] - s->c[t][1]) +
+                       (q[2] - s->c[t][2]) * (q[2] - s->c[t][2]);
+            r2 = fmaxf(r2, d2);
+        }
+        s->c[t][3] = sqrtf(r2) * 1.0001f + 1e-6f;
+    }
+    return 0;
+}
+
 /* The triangle nearest p among those whose vertices are all in mask (NULL: all); -1 if none. */
 static int nearest_triangle(const float *p, const float *xyz, const int32_t *tris, int nt,
-                            const uint8_t *mask)
+                            const uint8_t *mask, const tri_spheres *s)
 {
     float best = INFINITY;
     int bt = -1;
@@ -205,6 +234,12 @@ static int nearest_triangle(const float *p, const float *xyz, const int32_t *tri
         const int32_t *v = &tris[t * 3];
         if (mask && (!mask[v[0]] || !mask[v[1]] || !mask[v[2]]))
             continue;
+        const float *sc = s->c[t];
+        float dc = sqrtf((p[0] - sc[0]) * (p[0] - sc[0]) + (p[1] - sc[1]) * (p[1] - sc[1]) +
+                         (p[2] - sc[2]) * (p[2] - sc[2])) -
+                   sc[3];
+        if (dc > 0.0f && dc * dc > best)
+            continue; /* the whole triangle is farther than the best */
         float q[3], bary[3];
         sim_closest_on_triangle(p, &xyz[v[0] * 3], &xyz[v[1] * 3], &xyz[v[2] * 3], q, bary);
         float d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
@@ -225,16 +260,22 @@ static int nearest_triangle(const float *p, const float *xyz, const int32_t *tri
 static int attach_top_row(sim_garment *g, int cols, const shirt_frame *f, const float *xyz,
                           const int32_t *tris, int nt, const uint8_t *torso, sim_reject *why)
 {
+    tri_spheres s;
+    if (tri_spheres_make(&s, xyz, tris, nt) < 0)
+        return sim_reject_set(why, SIM_ERR_NO_MEMORY, "shirt: %d triangles", nt);
     int na = 0;
     for (int c = 0; c < cols; c++) {
         if (top_at(f, 2.0f * SHIRT_PI * (float)c / (float)cols) < f->y_top)
             continue;
-        int bt = nearest_triangle(&g->xyz[c * 3], xyz, tris, nt, torso);
-        if (bt < 0)
+        int bt = nearest_triangle(&g->xyz[c * 3], xyz, tris, nt, torso, &s);
+        if (bt < 0) {
+            free(s.c);
             return sim_reject_set(why, SIM_ERR_PARAM, "shirt: no torso triangle near column %d", c);
+        }
         g->attachments[na].vertex = c;
         glue(&g->xyz[c * 3], xyz, tris, bt, &g->attachments[na++]);
     }
+    free(s.c);
     g->num_attachments = na;
     return na;
 }
@@ -250,6 +291,9 @@ int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const
         r = sim_garment_validate(g, from_nt, why);
     if (r < 0)
         return r;
+    tri_spheres s;
+    if (tri_spheres_make(&s, to_xyz, to_tris, to_nt) < 0)
+        return sim_reject_set(why, SIM_ERR_NO_MEMORY, "rebind: %d triangles", to_nt);
     for (int a = 0; a < g->num_attachments; a++) {
         sim_attachment *at = &g->attachments[a];
         const int32_t *v = &from_tris[at->body_triangle * 3];
@@ -257,11 +301,14 @@ int sim_garment_rebind(sim_garment *g, const float *from_xyz, int from_nv, const
         for (int k = 0; k < 3; k++)
             foot[k] = at->bary[0] * from_xyz[v[0] * 3 + k] + at->bary[1] * from_xyz[v[1] * 3 + k] +
                       at->bary[2] * from_xyz[v[2] * 3 + k];
-        int t = nearest_triangle(foot, to_xyz, to_tris, to_nt, NULL);
-        if (t < 0)
+        int t = nearest_triangle(foot, to_xyz, to_tris, to_nt, NULL, &s);
+        if (t < 0) {
+            free(s.c);
             return sim_reject_set(why, SIM_ERR_PARAM, "rebind: no triangle near attachment %d", a);
+        }
         glue(&g->xyz[at->vertex * 3], to_xyz, to_tris, t, at);
     }
+    free(s.c);
     return 0;
 }
 
