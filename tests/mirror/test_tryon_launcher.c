@@ -249,7 +249,8 @@ static void test_recorded_session_replays(void **state)
 
 /* With the fitter as the body stage, every frame of the recording reaches it: the capture waits
  * for tryon-bodyfit's ready line (without it, the first half second of frames went by before
- * tryon-bodyfit listened). */
+ * tryon-bodyfit listened). At 4 fps: a fitter built with sanitizers on a loaded machine keeps up,
+ * and newest-frame-wins drops nothing. */
 static void test_bodyfit_sees_every_frame(void **state)
 {
     (void)state;
@@ -258,7 +259,7 @@ static void test_bodyfit_sees_every_frame(void **state)
     snprintf(out, sizeof out, "%s/frames", dir);
     snprintf(txt, sizeof txt, "%s/out.txt", dir);
     char *run[] = {TRYON_EXE, "run",    SAMPLE, "--body",    "bodyfit", "--headless", "--out",
-                   out,       "--rate", "10",   "--backend", "c",       NULL};
+                   out,       "--rate", "4",    "--backend", "c",       NULL};
     char tmpdir[300];
     snprintf(tmpdir, sizeof tmpdir, "TMPDIR=%s", dir);
     char *env[] = {tmpdir, NULL};
@@ -267,12 +268,13 @@ static void test_bodyfit_sees_every_frame(void **state)
     assert_non_null(said);
     const char *row = strstr(said, "\nbodyfit ");
     int frames = -1, dropped = -1;
-    if (!row || sscanf(row + 1, "bodyfit %d %d", &frames, &dropped) != 2)
-        fail_msg("no bodyfit row in the latency summary:\n%s", said);
+    if (!row || sscanf(row + 1, "bodyfit %d %d", &frames, &dropped) != 2 || frames != 8 ||
+        dropped != 0)
+        fprintf(stderr, "the launcher said:\n%s", said);
+    free(said); /* before a failure's jump out of the test */
     if (frames != 8 || dropped != 0)
-        fail_msg("tryon-bodyfit fitted %d of the 8 frames (%d dropped):\n%s", frames, dropped,
-                 said);
-    free(said);
+        fail_msg("tryon-bodyfit fitted %d of the 8 frames (%d dropped; -1: no bodyfit row)", frames,
+                 dropped);
     ts_remove_dir(dir);
 }
 
