@@ -174,14 +174,38 @@ static void track_initial_pose(fit_tracker *t, const fit_segment *sg, const fit_
     t->pose.root[2] = c[2] - rest[FIT_PELVIS * 3 + 2];
 }
 
-/* Every k-th person point, about `points` of them. */
+/* About `points` of the person's points, the same image cells from frame to frame: a cell is
+ * kept when its ordered-dither threshold (a 64 x 64 Bayer matrix tiled over the grid) falls under
+ * the wanted share, which spreads the kept cells evenly at any share. Every k-th point instead
+ * moves every chosen point to a neighbouring cell whenever the person gains or loses a pixel,
+ * and the fit then follows the sampling as well as the body (docs/bodyfit.md, jitter). */
+#define TRACK_DITHER_BITS 6
+static unsigned track_dither(unsigned x, unsigned y)
+{
+    unsigned v = 0, a = x ^ y;
+    for (int bit = TRACK_DITHER_BITS - 1; bit >= 0; --bit) /* interleave (x^y, y) bit-reversed */
+        v |= (((a >> bit) & 1u) << (2 * (TRACK_DITHER_BITS - 1 - bit) + 1)) |
+             (((y >> bit) & 1u) << (2 * (TRACK_DITHER_BITS - 1 - bit)));
+    return v; /* each of 0 .. 4^bits - 1 once per tile */
+}
+
 static int track_subsample(fit_tracker *t, const fit_segment *sg)
 {
-    int n = t->d.points < sg->count ? t->d.points : sg->count;
-    for (int i = 0; i < n; ++i) {
-        size_t src = (size_t)i * (size_t)sg->count / (size_t)n;
-        memcpy(t->pts + (size_t)i * 3, sg->points + src * 3, 3 * sizeof(float));
+    if (sg->count <= t->d.points) {
+        memcpy(t->pts, sg->points, (size_t)sg->count * 3 * sizeof(float));
+        return sg->count;
     }
+    const unsigned tile = 1u << TRACK_DITHER_BITS;
+    unsigned share = (unsigned)((double)(tile * tile) * t->d.points / sg->count + 0.5);
+    int n = 0, src = 0;
+    for (int y = 0; y < sg->height; ++y)
+        for (int x = 0; x < sg->width; ++x) {
+            if (!sg->mask[y * sg->width + x])
+                continue;
+            if (track_dither((unsigned)x & (tile - 1), (unsigned)y & (tile - 1)) < share)
+                memcpy(t->pts + (size_t)n++ * 3, sg->points + (size_t)src * 3, 3 * sizeof(float));
+            src++;
+        }
     return n;
 }
 
