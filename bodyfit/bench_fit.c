@@ -26,6 +26,7 @@ typedef struct totals {
     double *surface;
     int nsurface, cap_surface;
     int scored, jitter_n, in_view, tracked_in_view, recover_max, recover_n;
+    int bad, bad_flagged, doubted; /* failure: see score_frame */
 } totals;
 
 static double clock_ms(clockid_t c)
@@ -162,7 +163,13 @@ static int write_out(const char *dir, int k, const fit_result *r, const float m[
 typedef struct rec_scores {
     double surface, joints, jitter_sq;
     int scored, jitter_n, in_view, tracked, recover;
+    int bad, bad_flagged, doubted;
 } rec_scores;
+
+/* A bad fit: past the issue's goals for a whole recording (surface 15 mm, joints 40 mm). A good
+ * tracker publishes no bad fit as TRACKING (docs/bodyfit.md, "Failure"). */
+#define BENCH_BAD_SURFACE_M 0.015
+#define BENCH_BAD_JOINTS_M  0.040
 
 /* Scores one fitted frame against its truth. */
 static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gprev,
@@ -207,6 +214,10 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
     je /= FIT_JOINT_COUNT;
     s->surface += d, s->joints += je, s->scored++;
     tot->surface_sum += d, tot->joints_sum += je, tot->scored++;
+    int bad = d > BENCH_BAD_SURFACE_M || je > BENCH_BAD_JOINTS_M;
+    int doubted = r->state != FIT_STATE_TRACKING;
+    s->bad += bad, s->bad_flagged += bad && doubted, s->doubted += doubted;
+    tot->bad += bad, tot->bad_flagged += bad && doubted, tot->doubted += doubted;
     push(&tot->surface, &tot->nsurface, &tot->cap_surface, d);
     if (gprev && prev_joints) {
         for (int j = 0; j < FIT_JOINT_COUNT; ++j)
@@ -337,15 +348,16 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
     double med = quantile(ms, nms, 0.5), p95 = quantile(ms, nms, 0.95);
     if (gt)
-        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d\n", name,
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d %5d %5d %5d\n", name,
                gt[0].motion, fit_shape_preset_name(gt[0].shape_preset), frames, med, p95,
                s.scored ? 1000.0 * s.surface / s.scored : -1.0,
                s.scored ? 1000.0 * s.joints / s.scored : -1.0,
                s.jitter_n ? 1000.0 * sqrt(s.jitter_sq / s.jitter_n) : -1.0,
-               s.in_view ? 100.0 * s.tracked / s.in_view : -1.0, s.recover);
+               s.in_view ? 100.0 * s.tracked / s.in_view : -1.0, s.recover, s.doubted, s.bad,
+               s.bad - s.bad_flagged);
     else
-        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8s %8s %8s %7s %5s\n", name, "-", "-", frames,
-               med, p95, "-1", "-1", "-1", "-1", "-1");
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8s %8s %8s %7s %5s %5s %5s %5s\n", name, "-",
+               "-", frames, med, p95, "-1", "-1", "-1", "-1", "-1", "-1", "-1", "-1");
     free(ms);
 done:
     if (jl)
@@ -473,8 +485,9 @@ int main(int argc, char **argv)
     int first;
     if (parse_args(argc, argv, &o, &first))
         return 2;
-    printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s\n", "recording", "motion", "shape",
-           "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter", "track%", "recov");
+    printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s %5s %5s %5s\n", "recording", "motion",
+           "shape", "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter", "track%",
+           "recov", "doubt", "bad", "badtr");
     totals tot = {0};
     o.multi = argc - first > 1;
     int failed = 0;
@@ -487,6 +500,7 @@ int main(int argc, char **argv)
            "\"surface_mm_p95\":%.2f,\"joints_mm\":%.2f,\"jitter_mm\":%.2f,"
            "\"tracked_fraction\":%.4f,\"frames_to_recover\":%d,\"verts\":%d,\"iterations\":%d,"
            "\"points\":%d,\"fit_verts\":%d,\"frames\":%d,\"recordings_failed\":%d,"
+           "\"doubted_frames\":%d,\"bad_frames\":%d,\"bad_tracking_frames\":%d,"
            "\"backend\":\"c\",\"device\":\"cpu-1-core\"}\n",
            quantile(tot.ms, tot.nms, 0.5), quantile(tot.ms, tot.nms, 0.95),
            quantile(tot.cpu, tot.ncpu, 0.5), quantile(tot.cpu, tot.ncpu, 0.95),
@@ -497,7 +511,8 @@ int main(int argc, char **argv)
            scored && tot.in_view ? (double)tot.tracked_in_view / tot.in_view : -1.0,
            scored && tot.recover_n ? tot.recover_max : -1, d.out_vertices ? d.out_vertices : 6000,
            d.iterations ? d.iterations : 6, d.points ? d.points : 400,
-           d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed);
+           d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
+           scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1);
     free(tot.ms);
     free(tot.cpu);
     free(tot.surface);
