@@ -448,7 +448,11 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
-    if (!t->d.fixed_shape && !out->doubt)
+    /* The first frames estimate the shape whatever the doubt; after them a doubtful fit does not
+     * teach the shape (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm;
+     * part_out, enter_leave, turn s2 1-2 mm better too; fast_swing s1 65 -> 92 mm worse: its
+     * arm is lost either way, docs/bodyfit.md). */
+    if (!t->d.fixed_shape && (!out->doubt || t->person_frames <= t->d.shape_frames))
         track_shape_update(t);
     double t2 = now_ms();
     t->published = t->pose;
