@@ -93,6 +93,9 @@ enum {
     FIT_DOUBT_SIDE_ON = 16     /* the body turned side-on: shoulders and hips seen edge-on */
 };
 
+/* The causes' names, space-separated ("UNEXPLAINED LIMITS"), into buf. */
+void fit_doubt_names(unsigned doubt, char *buf, size_t len);
+
 typedef struct fit_tracker_desc {
     fit_segment_desc segment;
     int out_vertices;    /* 0 = 6000: the mesh published */

@@ -309,6 +309,20 @@ static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *be
     fit_pose_clamp(out);
 }
 
+void fit_doubt_names(unsigned doubt, char *buf, size_t len)
+{
+    static const char *const names[] = {"UNEXPLAINED", "FREE_SPACE", "OUT_OF_VIEW", "LIMITS",
+                                        "SIDE_ON"};
+    size_t n = 0;
+    if (len)
+        buf[0] = '\0';
+    for (unsigned k = 0; k < sizeof names / sizeof names[0] && n < len; ++k)
+        if (doubt & (1u << k)) {
+            int w = snprintf(buf + n, len - n, "%s%s", n ? " " : "", names[k]);
+            n += w > 0 ? (size_t)w : 0;
+        }
+}
+
 /* The square of the person's distance along the optical axis, m^2 (at least 0.25: 0.5 m). */
 static float track_distance2(const fit_segment *sg, const fit_depth_view *v)
 {
