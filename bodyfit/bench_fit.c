@@ -19,8 +19,10 @@
 typedef struct bench_opts {
     fit_tracker_desc td;
     const char *out_dir;
-    int max_frames, multi; /* multi: several recordings, each --out in its own folder */
-    int cloth_vertices;    /* the shirt of cloth_vs_truth_mm; 0 = none (the default) */
+    int max_frames, multi;   /* multi: several recordings, each --out in its own folder */
+    int cloth_vertices;      /* the shirt of cloth_vs_truth_mm; 0 = none (the default) */
+    const char *scores_path; /* --scores FILE */
+    FILE *scores;            /* one line per scored frame, or NULL */
 } bench_opts;
 
 typedef struct totals {
@@ -179,11 +181,13 @@ typedef struct rec_scores {
 #define BENCH_BAD_SURFACE_M 0.015
 #define BENCH_BAD_JOINTS_M  0.040
 
-/* Scores one fitted frame against its truth. */
+/* Scores one fitted frame against its truth; the frame's surface and joint errors (m) in
+ * err_out. */
 static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gprev,
                         const float *prev_joints, fit_model *truth, float *tv, float *tn, float *fn,
-                        rec_scores *s, totals *tot)
+                        rec_scores *s, totals *tot, double err_out[2])
 {
+    err_out[0] = err_out[1] = -1.0;
     fit_pose pose;
     memcpy(pose.root, g->pose, sizeof pose.root);
     memcpy(pose.rot, g->pose + 3, sizeof pose.rot);
@@ -220,6 +224,7 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
         je += sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     }
     je /= FIT_JOINT_COUNT;
+    err_out[0] = d, err_out[1] = je;
     s->surface += d, s->joints += je, s->scored++;
     tot->surface_sum += d, tot->joints_sum += je, tot->scored++;
     int bad = d > BENCH_BAD_SURFACE_M || je > BENCH_BAD_JOINTS_M;
@@ -330,6 +335,7 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     s.recover = -1;
     float prev_joints[FIT_JOINT_COUNT * 3];
     int have_prev = 0;
+    const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
 #ifdef BENCH_FIT_CLOTH
     bench_cloth *cloth = NULL;
     int cloth_off = 0;
@@ -375,9 +381,13 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         }
         if (entered >= 0 && s.recover < 0 && r.state != FIT_STATE_LOST)
             s.recover = k - entered;
+        double err[2] = {-1.0, -1.0};
         if (gt && r.vertices)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
-                        have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot);
+                        have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
+        if (o->scores && gt && r.vertices)
+            fprintf(o->scores, "%s %d %d %u %.2f %.2f\n", name, k, r.state, r.doubt,
+                    1000.0 * err[0], 1000.0 * err[1]);
 #ifdef BENCH_FIT_CLOTH
         if (gt && r.vertices)
             cloth_frame(&cloth, &cloth_off, o, &r, &gt[k], truth, tv, &s, tot);
@@ -391,7 +401,6 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         tot->recover_max = s.recover > tot->recover_max ? s.recover : tot->recover_max;
         tot->recover_n++;
     }
-    const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
     double med = quantile(ms, nms, 0.5), p95 = quantile(ms, nms, 0.95);
     if (gt)
         printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d %5d %5d %5d %7.1f\n",
@@ -445,7 +454,7 @@ static void usage(FILE *f)
             "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
             "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
             "                       [--smooth HZ] [--smooth-beta-root B] [--smooth-beta-rot B]\n"
-            "                       [--cloth-vertices N] RECORDING...\n"
+            "                       [--cloth-vertices N] [--scores FILE] RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
@@ -459,7 +468,8 @@ static void usage(FILE *f)
             "the distance to the farthest joint below it; --smooth-beta-rot 3).\n"
             "--cloth-vertices: the shirt dressed on the fitted and on the true body for\n"
             "cloth_vs_truth_mm, N vertices (0, the default: not dressed, the field -1; the two\n"
-            "sims take about 60 ms of CPU a frame with 600).\n");
+            "sims take about 60 ms of CPU a frame with 600). --scores FILE: one line per scored\n"
+            "frame, 'recording frame state doubt surface_mm joints_mm'.\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -475,7 +485,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
                    strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
                    strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict") &&
                    strcmp(a, "--smooth") && strcmp(a, "--smooth-beta-root") &&
-                   strcmp(a, "--smooth-beta-rot") && strcmp(a, "--cloth-vertices")) {
+                   strcmp(a, "--smooth-beta-rot") && strcmp(a, "--cloth-vertices") &&
+                   strcmp(a, "--scores")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -513,6 +524,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = parse_int(v, 1, 1000000, &o->max_frames);
         else if (!strcmp(a, "--cloth-vertices"))
             bad = parse_int(v, 0, 100000, &o->cloth_vertices);
+        else if (!strcmp(a, "--scores"))
+            o->scores_path = v;
         else {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
@@ -539,6 +552,10 @@ int main(int argc, char **argv)
     int first;
     if (parse_args(argc, argv, &o, &first))
         return 2;
+    if (o.scores_path && !(o.scores = fopen(o.scores_path, "w"))) {
+        fprintf(stderr, "tryon-bench-fit: --scores %s: cannot write it\n", o.scores_path);
+        return 2;
+    }
     printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s %5s %5s %5s %7s\n", "recording",
            "motion", "shape", "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter",
            "track%", "recov", "doubt", "bad", "badtr", "cloth");
@@ -569,6 +586,10 @@ int main(int argc, char **argv)
            d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
            scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
            tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices);
+    if (o.scores && fclose(o.scores)) {
+        fprintf(stderr, "tryon-bench-fit: --scores %s: write failed\n", o.scores_path);
+        failed++;
+    }
     free(tot.ms);
     free(tot.cpu);
     free(tot.surface);

@@ -65,6 +65,16 @@ if want fails; then
   "$BENCH" "$(rec arms_cross 0 180)" "$(rec turn 2 180)" "$(rec fast_swing 1 48)" \
       "$(rec part_out 0 180)" "$(rec enter_leave 0 240)" "$(rec distance 0 240)" \
       "$(rec occlusion 0 120)" > "$OUT/fails.txt"
+  # the distance walk per band of distance (the motion's own distance: 1.5 + 2 smoothstep(u) m)
+  "$BENCH" --scores "$OUT/distance_scores.txt" "$(rec distance 0 240)" > "$OUT/distance.txt"
+  awk '{ t = $2 / 30.0; u = t < 4 ? t / 4 : (8 - t) / 4; d = 1.5 + 2 * u * u * (3 - 2 * u);
+         b = d < 2.0 ? 0 : (d < 2.5 ? 1 : (d < 3.0 ? 2 : 3));
+         n[b]++; s[b] += $5; j[b] += $6; bad[b] += ($5 > 15 || $6 > 40); dbt[b] += ($3 != 1) }
+       END { split("1.5-2.0 2.0-2.5 2.5-3.0 3.0-3.5", nm, " ");
+             for (b = 0; b < 4; b++)
+               printf "%s m: %d frames, surface %.1f mm, joints %.1f mm, bad %d, not tracking %d\n",
+                      nm[b + 1], n[b], s[b] / n[b], j[b] / n[b], bad[b], dbt[b] }' \
+      "$OUT/distance_scores.txt" > "$OUT/distance_bands.txt"
 fi
 
 # 4. the temporal prior's weight and the constant-velocity start, on still, fast swing, walk

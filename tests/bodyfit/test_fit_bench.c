@@ -30,7 +30,14 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench"), 0);
     snprintf(out, sizeof out, "%s/out", dir);
     snprintf(log, sizeof log, "%s/log.txt", dir);
-    char *argv[] = {TRYON_BENCH_FIT_EXE, "--out", out, TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
+    char scores[500];
+    snprintf(scores, sizeof scores, "%s/scores.txt", dir);
+    char *argv[] = {TRYON_BENCH_FIT_EXE,
+                    "--out",
+                    out,
+                    "--scores",
+                    scores,
+                    TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
                     NULL};
     pid_t pid = ts_spawn_out(argv, NULL, log);
     assert_true(pid > 0);
@@ -47,6 +54,23 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_true(json_field(json, "tracked_fraction") == 1.0);
     assert_true(json_field(json, "frames") == 4.0);
     assert_true(json_field(json, "cloth_vs_truth_mm") == -1.0); /* not asked for */
+    free(text);
+    /* --scores: a line per frame, its errors those of the JSON line's range */
+    text = ts_read_file(scores);
+    assert_non_null(text);
+    int lines = 0;
+    for (const char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+        int frame, st;
+        unsigned doubt;
+        double surf, joints;
+        assert_int_equal(
+            sscanf(l, "arm_raise_s0_exact %d %d %u %lf %lf", &frame, &st, &doubt, &surf, &joints),
+            5);
+        assert_int_equal(frame, lines);
+        assert_true(surf > 0.0 && surf < 10.0 && joints > 0.0 && joints < 30.0);
+        lines++;
+    }
+    assert_int_equal(lines, 4);
     free(text);
     struct stat st;
     for (int k = 0; k < 4; ++k) {
