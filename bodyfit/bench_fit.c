@@ -4,6 +4,9 @@
  * recording, then one JSON line (docs/bodyfit.md). */
 #include "fit_track.h"
 #include "recordings.h"
+#ifdef BENCH_FIT_CLOTH
+#include "bench_cloth.h"
+#endif
 
 #include <errno.h>
 #include <math.h>
@@ -16,7 +19,10 @@
 typedef struct bench_opts {
     fit_tracker_desc td;
     const char *out_dir;
-    int max_frames, multi; /* multi: several recordings, each --out in its own folder */
+    int max_frames, multi;   /* multi: several recordings, each --out in its own folder */
+    int cloth_vertices;      /* the shirt of cloth_vs_truth_mm; 0 = none (the default) */
+    const char *scores_path; /* --scores FILE */
+    FILE *scores;            /* one line per scored frame, or NULL */
 } bench_opts;
 
 typedef struct totals {
@@ -26,6 +32,9 @@ typedef struct totals {
     double *surface;
     int nsurface, cap_surface;
     int scored, jitter_n, in_view, tracked_in_view, recover_max, recover_n;
+    int bad, bad_flagged, doubted; /* failure: see score_frame */
+    double cloth_sum;
+    int cloth_n;
 } totals;
 
 static double clock_ms(clockid_t c)
@@ -162,13 +171,23 @@ static int write_out(const char *dir, int k, const fit_result *r, const float m[
 typedef struct rec_scores {
     double surface, joints, jitter_sq;
     int scored, jitter_n, in_view, tracked, recover;
+    int bad, bad_flagged, doubted;
+    double cloth_sum;
+    int cloth_n;
 } rec_scores;
 
-/* Scores one fitted frame against its truth. */
+/* A bad fit: past the issue's goals for a whole recording (surface 15 mm, joints 40 mm). A good
+ * tracker publishes no bad fit as TRACKING (docs/bodyfit.md, "Failure"). */
+#define BENCH_BAD_SURFACE_M 0.015
+#define BENCH_BAD_JOINTS_M  0.040
+
+/* Scores one fitted frame against its truth; the frame's surface and joint errors (m) in
+ * err_out. */
 static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gprev,
                         const float *prev_joints, fit_model *truth, float *tv, float *tn, float *fn,
-                        rec_scores *s, totals *tot)
+                        rec_scores *s, totals *tot, double err_out[2])
 {
+    err_out[0] = err_out[1] = -1.0;
     fit_pose pose;
     memcpy(pose.root, g->pose, sizeof pose.root);
     memcpy(pose.rot, g->pose + 3, sizeof pose.rot);
@@ -205,8 +224,13 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
         je += sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     }
     je /= FIT_JOINT_COUNT;
+    err_out[0] = d, err_out[1] = je;
     s->surface += d, s->joints += je, s->scored++;
     tot->surface_sum += d, tot->joints_sum += je, tot->scored++;
+    int bad = d > BENCH_BAD_SURFACE_M || je > BENCH_BAD_JOINTS_M;
+    int doubted = r->state != FIT_STATE_TRACKING;
+    s->bad += bad, s->bad_flagged += bad && doubted, s->doubted += doubted;
+    tot->bad += bad, tot->bad_flagged += bad && doubted, tot->doubted += doubted;
     push(&tot->surface, &tot->nsurface, &tot->cap_surface, d);
     if (gprev && prev_joints) {
         for (int j = 0; j < FIT_JOINT_COUNT; ++j)
@@ -219,6 +243,36 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
         s->jitter_n++, tot->jitter_n++;
     }
 }
+
+#ifdef BENCH_FIT_CLOTH
+/* The shirt on both bodies this frame (made on the first frame both exist; tv: the true mesh
+ * score_frame posed). Off for the recording after an error. */
+static void cloth_frame(bench_cloth **c, int *off, const bench_opts *o, const fit_result *r,
+                        const rec_gt *g, const fit_model *truth, const float *tv, rec_scores *s,
+                        totals *tot)
+{
+    char err[400];
+    if (*off || o->cloth_vertices <= 0)
+        return;
+    if (!*c) {
+        float tj[FIT_JOINT_COUNT * 3];
+        for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+            memcpy(tj + j * 3, g->joints[j], 3 * sizeof(float));
+        *c = bench_cloth_create(o->cloth_vertices, tv, fit_model_vertex_count(truth),
+                                fit_model_triangles(truth), fit_model_triangle_count(truth), tj,
+                                r->vertices, r->vertex_count, r->triangles, r->triangle_count, err,
+                                sizeof err);
+    }
+    double d = *c ? bench_cloth_step(*c, tv, r->vertices, err, sizeof err) : -1.0;
+    if (d < 0.0) {
+        fprintf(stderr, "tryon-bench-fit: cloth_vs_truth off for this recording: %s\n", err);
+        *off = 1;
+        return;
+    }
+    s->cloth_sum += d, s->cloth_n++;
+    tot->cloth_sum += d, tot->cloth_n++;
+}
+#endif
 
 static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
 {
@@ -281,6 +335,11 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     s.recover = -1;
     float prev_joints[FIT_JOINT_COUNT * 3];
     int have_prev = 0;
+    const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
+#ifdef BENCH_FIT_CLOTH
+    bench_cloth *cloth = NULL;
+    int cloth_off = 0;
+#endif
     for (int k = 0; k < frames; ++k) {
         if (rec_frame_read(dir, &idx.frames[k], k, raw, &why) != REC_OK) {
             fprintf(stderr, "tryon-bench-fit: %s; frame skipped\n", why.message);
@@ -322,9 +381,17 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         }
         if (entered >= 0 && s.recover < 0 && r.state != FIT_STATE_LOST)
             s.recover = k - entered;
+        double err[2] = {-1.0, -1.0};
         if (gt && r.vertices)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
-                        have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot);
+                        have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
+        if (o->scores && gt && r.vertices)
+            fprintf(o->scores, "%s %d %d %u %.2f %.2f\n", name, k, r.state, r.doubt,
+                    1000.0 * err[0], 1000.0 * err[1]);
+#ifdef BENCH_FIT_CLOTH
+        if (gt && r.vertices)
+            cloth_frame(&cloth, &cloth_off, o, &r, &gt[k], truth, tv, &s, tot);
+#endif
         have_prev = r.vertices != NULL;
         if (have_prev)
             memcpy(prev_joints, r.joints, sizeof prev_joints);
@@ -334,19 +401,22 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         tot->recover_max = s.recover > tot->recover_max ? s.recover : tot->recover_max;
         tot->recover_n++;
     }
-    const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
     double med = quantile(ms, nms, 0.5), p95 = quantile(ms, nms, 0.95);
     if (gt)
-        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d\n", name,
-               gt[0].motion, fit_shape_preset_name(gt[0].shape_preset), frames, med, p95,
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8.1f %8.1f %8.2f %7.1f %5d %5d %5d %5d %7.1f\n",
+               name, gt[0].motion, fit_shape_preset_name(gt[0].shape_preset), frames, med, p95,
                s.scored ? 1000.0 * s.surface / s.scored : -1.0,
                s.scored ? 1000.0 * s.joints / s.scored : -1.0,
                s.jitter_n ? 1000.0 * sqrt(s.jitter_sq / s.jitter_n) : -1.0,
-               s.in_view ? 100.0 * s.tracked / s.in_view : -1.0, s.recover);
+               s.in_view ? 100.0 * s.tracked / s.in_view : -1.0, s.recover, s.doubted, s.bad,
+               s.bad - s.bad_flagged, s.cloth_n ? 1000.0 * s.cloth_sum / s.cloth_n : -1.0);
     else
-        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8s %8s %8s %7s %5s\n", name, "-", "-", frames,
-               med, p95, "-1", "-1", "-1", "-1", "-1");
+        printf("%-24s %-11s %-11s %5d %7.2f %7.2f %8s %8s %8s %7s %5s %5s %5s %5s %7s\n", name, "-",
+               "-", frames, med, p95, "-1", "-1", "-1", "-1", "-1", "-1", "-1", "-1", "-1");
     free(ms);
+#ifdef BENCH_FIT_CLOTH
+    bench_cloth_destroy(cloth);
+#endif
 done:
     if (jl)
         fclose(jl);
@@ -384,7 +454,7 @@ static void usage(FILE *f)
             "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
             "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
             "                       [--smooth HZ] [--smooth-beta-root B] [--smooth-beta-rot B]\n"
-            "                       RECORDING...\n"
+            "                       [--cloth-vertices N] [--scores FILE] RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
@@ -394,8 +464,13 @@ static void usage(FILE *f)
             "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
             "frame's motion carried on; 0: none); --frames: all. --smooth: the published pose's\n"
             "One Euro filter's cut-off at rest (0.5 Hz; 0: no filter), its rise per m/s of\n"
-            "the root (--smooth-beta-root 8) and per m/s of a joint's reach (its rad/s times\n"
-            "the distance to the farthest joint below it; --smooth-beta-rot 3).\n");
+            "the root (--smooth-beta-root 16, the root's and every joint's) and per m/s of a\n"
+            "joint's reach (its rad/s times the distance to the farthest joint below it;\n"
+            "--smooth-beta-rot 3).\n"
+            "--cloth-vertices: the shirt dressed on the fitted and on the true body for\n"
+            "cloth_vs_truth_mm, N vertices (0, the default: not dressed, the field -1; the two\n"
+            "sims take about 60 ms of CPU a frame with 600). --scores FILE: one line per scored\n"
+            "frame, 'recording frame state doubt surface_mm joints_mm'.\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -411,7 +486,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
                    strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
                    strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict") &&
                    strcmp(a, "--smooth") && strcmp(a, "--smooth-beta-root") &&
-                   strcmp(a, "--smooth-beta-rot")) {
+                   strcmp(a, "--smooth-beta-rot") && strcmp(a, "--cloth-vertices") &&
+                   strcmp(a, "--scores")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -447,6 +523,10 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = parse_float(v, 1e-6f, 1e4f, &o->td.smooth_beta_rot);
         else if (!strcmp(a, "--frames"))
             bad = parse_int(v, 1, 1000000, &o->max_frames);
+        else if (!strcmp(a, "--cloth-vertices"))
+            bad = parse_int(v, 0, 100000, &o->cloth_vertices);
+        else if (!strcmp(a, "--scores"))
+            o->scores_path = v;
         else {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
@@ -473,8 +553,13 @@ int main(int argc, char **argv)
     int first;
     if (parse_args(argc, argv, &o, &first))
         return 2;
-    printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s\n", "recording", "motion", "shape",
-           "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter", "track%", "recov");
+    if (o.scores_path && !(o.scores = fopen(o.scores_path, "w"))) {
+        fprintf(stderr, "tryon-bench-fit: --scores %s: cannot write it\n", o.scores_path);
+        return 2;
+    }
+    printf("%-24s %-11s %-11s %5s %7s %7s %8s %8s %8s %7s %5s %5s %5s %5s %7s\n", "recording",
+           "motion", "shape", "frames", "ms_med", "ms_p95", "surf_mm", "joint_mm", "jitter",
+           "track%", "recov", "doubt", "bad", "badtr", "cloth");
     totals tot = {0};
     o.multi = argc - first > 1;
     int failed = 0;
@@ -487,6 +572,8 @@ int main(int argc, char **argv)
            "\"surface_mm_p95\":%.2f,\"joints_mm\":%.2f,\"jitter_mm\":%.2f,"
            "\"tracked_fraction\":%.4f,\"frames_to_recover\":%d,\"verts\":%d,\"iterations\":%d,"
            "\"points\":%d,\"fit_verts\":%d,\"frames\":%d,\"recordings_failed\":%d,"
+           "\"doubted_frames\":%d,\"bad_frames\":%d,\"bad_tracking_frames\":%d,"
+           "\"cloth_vs_truth_mm\":%.2f,\"cloth_vertices\":%d,"
            "\"backend\":\"c\",\"device\":\"cpu-1-core\"}\n",
            quantile(tot.ms, tot.nms, 0.5), quantile(tot.ms, tot.nms, 0.95),
            quantile(tot.cpu, tot.ncpu, 0.5), quantile(tot.cpu, tot.ncpu, 0.95),
@@ -497,7 +584,13 @@ int main(int argc, char **argv)
            scored && tot.in_view ? (double)tot.tracked_in_view / tot.in_view : -1.0,
            scored && tot.recover_n ? tot.recover_max : -1, d.out_vertices ? d.out_vertices : 6000,
            d.iterations ? d.iterations : 6, d.points ? d.points : 400,
-           d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed);
+           d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
+           scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
+           tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices);
+    if (o.scores && fclose(o.scores)) {
+        fprintf(stderr, "tryon-bench-fit: --scores %s: write failed\n", o.scores_path);
+        failed++;
+    }
     free(tot.ms);
     free(tot.cpu);
     free(tot.surface);

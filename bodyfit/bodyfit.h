@@ -108,7 +108,10 @@ int fit_model_write_obj(const fit_model *m, const float *vertices, const char *p
     X(FIT_MOTION_BEND_FORWARD, "bend_forward") /* trunk 30 deg forward and back at 1 Hz */         \
     X(FIT_MOTION_BEND_SIDE, "bend_side")       /* trunk 20 deg to either side at 0.5 Hz */         \
     X(FIT_MOTION_TWIST, "twist")               /* trunk 45 deg about the spine, at 0.5 Hz */       \
-    X(FIT_MOTION_BEND_FAST, "bend_fast")       /* trunk 30 deg forward and back in 0.7 s */
+    X(FIT_MOTION_BEND_FAST, "bend_fast")       /* trunk 30 deg forward and back in 0.7 s */        \
+    X(FIT_MOTION_ARMS_CROSS, "arms_cross")     /* forearms crossed before the chest, held, back */ \
+    X(FIT_MOTION_DISTANCE, "distance")         /* walks from 1.5 to 3.5 m off the camera, back */  \
+    X(FIT_MOTION_PART_OUT, "part_out")         /* steps 1.3 m aside, half out of view, back */
 
 #define FIT_MOTION_ENUM(id, name) id,
 typedef enum fit_motion { FIT_MOTION_LIST(FIT_MOTION_ENUM) FIT_MOTION_COUNT } fit_motion;

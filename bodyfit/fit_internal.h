@@ -34,13 +34,24 @@ typedef struct fit_problem {
     int iterations;
     float max_match_m; /* data points farther from the model are outliers */
     float temporal;    /* weight of the temporal prior */
+    float explained_m; /* a point this close to the model is explained; 0 = FIT_EXPLAINED_M */
 } fit_problem;
 
 typedef struct fit_stats {
     float rms_mm;
     int inliers;
+    int explained; /* points within explained_m of the model (the last pass) */
     int iterations;
+    int clamped;                     /* pose parameters the last step pushed past a joint limit */
+    int sil_checked, sil_violations; /* camera-facing vertices checked against free space, and
+                                        those FIT_SIL_OUT_PX or more outside the silhouette
+                                        where the camera sees past them (the last pass) */
 } fit_stats;
+/* A point this close to the model is explained by it, at least: depth noise is 1 cm at 2.5 m. */
+#define FIT_EXPLAINED_M 0.04f
+/* A model vertex this many grid pixels outside the person, where the camera sees farther, is
+ * in free space: a body part where there is none (2 px at stride 2: 3.5 cm at 2.5 m). */
+#define FIT_SIL_OUT_PX 2
 
 typedef struct fit_solver fit_solver;
 fit_solver *fit_solver_create(const fit_model *coarse);

@@ -26,6 +26,8 @@ typedef struct fitp {
     int64_t pending_received;
     int triangles_every, max_frames, queue_all;
     long published, skipped, bad, last_triangles_seq, last_topology;
+    long doubted, doubt_spells; /* frames published doubtful (fit_result.doubt), and runs of them */
+    unsigned last_doubt;
 } fitp;
 
 static volatile sig_atomic_t stop;
@@ -131,6 +133,18 @@ static void fit_pending(fitp *p)
     if (e != FIT_FRAME_OK && e != FIT_FRAME_NOBODY && p->bad++ < FITP_MESSAGES_MAX)
         fprintf(stderr, "tryon-bodyfit: frame %d: %s; published as lost, waiting for the next\n",
                 f->seq, r.message);
+    if (r.doubt) { /* a failure shown, not hidden: one line when a run of doubtful fits starts */
+        p->doubted++;
+        if (!p->last_doubt && p->doubt_spells++ < FITP_MESSAGES_MAX) {
+            char why[96];
+            fit_doubt_names(r.doubt, why, sizeof why);
+            fprintf(stderr,
+                    "tryon-bodyfit: frame %d: fit doubted (%s: %.0f %% of the points explained, "
+                    "%.0f %% of the model in free space); published as init until sound again\n",
+                    f->seq, why, 100.0f * r.explained, 100.0f * r.free_space);
+        }
+    }
+    p->last_doubt = r.doubt;
     publish(p, f, &r, &timing);
     if (p->max_frames > 0 && p->published >= p->max_frames)
         stop = 1;
@@ -248,8 +262,9 @@ int main(int argc, char **argv)
     }
     fprintf(stderr,
             "tryon-bodyfit: published %ld bodies, %ld frames skipped (newest wins), %ld bad "
-            "frames, %llu DEPTH messages rejected\n",
-            p.published, p.skipped, p.bad, (unsigned long long)bus_sub_stats(sub)->rejected);
+            "frames, %ld doubtful fits (runs of them: %ld), %llu DEPTH messages rejected\n",
+            p.published, p.skipped, p.bad, p.doubted, p.doubt_spells,
+            (unsigned long long)bus_sub_stats(sub)->rejected);
     rc = 0;
 done:
     bus_unsubscribe(p.lcm, sub);

@@ -1,6 +1,7 @@
 /* One Euro filter on the pose: per joint (the root translation and each joint's rotation, each
  * a 3-vector), x' = x' + a (x - x'), a = 1 / (1 + 1 / (2 pi fc dt)), fc = min_cutoff + beta |v|,
- * v the joint's speed low-passed at FIT_SMOOTH_SPEED_CUTOFF_HZ. The speed is the vector's norm,
+ * v the joint's speed low-passed at FIT_SMOOTH_SPEED_CUTOFF_HZ; a joint's fc also rises with the
+ * root's (beta_root times the root's speed). The speed is the vector's norm,
  * so the filter does not depend on the axes. */
 #include "fit_smooth.h"
 
@@ -40,15 +41,15 @@ void fit_smoother_reset(fit_smoother *s)
 }
 
 /* One 3-vector: x filtered toward in, v its filtered speed. */
-static void smooth_vec3(const fit_smooth_desc *d, float beta, const float in[3], float x[3],
-                        float v[3])
+static void smooth_vec3(const fit_smooth_desc *d, float beta, float extra_hz, const float in[3],
+                        float x[3], float v[3])
 {
     float dt = d->frame_s, ad = smooth_alpha(FIT_SMOOTH_SPEED_CUTOFF_HZ, dt), speed2 = 0.0f;
     for (int k = 0; k < 3; ++k) {
         v[k] += ad * ((in[k] - x[k]) / dt - v[k]);
         speed2 += v[k] * v[k];
     }
-    float a = smooth_alpha(d->min_cutoff_hz + beta * sqrtf(speed2), dt);
+    float a = smooth_alpha(d->min_cutoff_hz + extra_hz + beta * sqrtf(speed2), dt);
     for (int k = 0; k < 3; ++k)
         x[k] += a * (in[k] - x[k]);
 }
@@ -60,9 +61,13 @@ void fit_smoother_step(fit_smoother *s, const fit_pose *in, fit_pose *out)
         memset(&s->dx, 0, sizeof s->dx);
         s->primed = 1;
     } else {
-        smooth_vec3(&s->d, s->d.beta_root, in->root, s->x.root, s->dx.root);
+        smooth_vec3(&s->d, s->d.beta_root, 0.0f, in->root, s->x.root, s->dx.root);
+        /* A body moving as a whole opens every joint's filter with the root's: otherwise the
+         * limbs trail a walking body by centimetres (docs/bodyfit.md, "distance"). */
+        const float *v = s->dx.root;
+        float body_hz = s->d.beta_root * sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         for (int j = 0; j < FIT_JOINT_COUNT; ++j)
-            smooth_vec3(&s->d, s->d.beta_rot * s->lever_m[j], in->rot[j], s->x.rot[j],
+            smooth_vec3(&s->d, s->d.beta_rot * s->lever_m[j], body_hz, in->rot[j], s->x.rot[j],
                         s->dx.rot[j]);
         fit_pose_clamp(&s->x);
     }

@@ -190,11 +190,13 @@ typedef struct frame_ctx {
 
 /* Data to model: point-to-plane, Huber weights, gated at max_match_m. Returns the inliers. */
 static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double *A, double *b,
-                     double *sq)
+                     double *sq, int *explained)
 {
     int in = 0;
+    *explained = 0;
     double w0 = 1.0 / (pb->count > 0 ? pb->count : 1);
     float gate2 = pb->max_match_m * pb->max_match_m;
+    float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M;
     memset(s->part_off, 0, sizeof s->part_off);
     memset(s->part_n, 0, sizeof s->part_n);
     for (int i = 0; i < pb->count; ++i) {
@@ -212,6 +214,7 @@ static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double 
         double w = a > SOLVE_HUBER_M ? w0 * SOLVE_HUBER_M / a : w0;
         add_row(&vj, n, -r, w, A, b);
         *sq += (double)r * r;
+        *explained += a <= tol;
         int part = fit_shape_part(s->m->wjoint[(size_t)v * FIT_MAX_INFLUENCES]);
         s->part_off[part] -= r;
         s->part_n[part]++;
@@ -235,8 +238,9 @@ static void to_world_dir(const float m[16], const float a[3], float g[3])
         g[k] = m[k * 4] * a[0] + m[k * 4 + 1] * a[1] + m[k * 4 + 2] * a[2];
 }
 
+/* With A NULL, only counts the vertices in free space (st: sil_checked, sil_violations). */
 static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double *A,
-                            double *b)
+                            double *b, fit_stats *st)
 {
     const fit_segment *sg = pb->seg;
     const fit_depth_view *vw = pb->view;
@@ -259,6 +263,9 @@ static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, 
             continue; /* outside the image: nothing is known there */
         int i = gy * sg->width + gx;
         fit_vjac vj;
+        st->sil_checked += A == NULL;
+        if (sg->mask[i] && !A)
+            continue;
         if (sg->mask[i]) {
             float z = sg->depth_m[i];
             if (!(z > 0.0f) || c[2] > z - SOLVE_FRONT_SLACK_M)
@@ -280,6 +287,11 @@ static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, 
         int q = pb->roi[2] >= 0 ? pb->nearest[cy * sg->width + cx] : -1;
         if (q < 0)
             continue;
+        if (!A) {
+            int dx = q % sg->width - gx, dy = q / sg->width - gy;
+            st->sil_violations += dx * dx + dy * dy >= FIT_SIL_OUT_PX * FIT_SIL_OUT_PX;
+            continue;
+        }
         float ru = ((float)((q % sg->width) * sg->stride) - vw->cx) / vw->fx;
         float rv = ((float)((q / sg->width) * sg->stride) - vw->cy) / vw->fy;
         fit_vertex_sparse(s->m, f->skin, f->joints, v, &vj);
@@ -374,19 +386,22 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
         double A[NP * NP], b[NP], sq = 0.0;
         memset(A, 0, sizeof A);
         memset(b, 0, sizeof b);
-        st->inliers = data_term(s, pb, &f, A, b, &sq);
+        st->inliers = data_term(s, pb, &f, A, b, &sq, &st->explained);
         st->rms_mm = st->inliers ? (float)(1000.0 * sqrt(sq / st->inliers)) : 0.0f;
-        if (it == pb->iterations)
-            break; /* the last pass only measures */
+        if (it == pb->iterations) { /* the last pass only measures */
+            if (pb->seg && pb->nearest)
+                free_space_term(s, pb, &f, NULL, NULL, st);
+            break;
+        }
         if (pb->seg && pb->nearest)
-            free_space_term(s, pb, &f, A, b);
+            free_space_term(s, pb, &f, A, b, st);
         prior_terms(pb, pose, &f, A, b);
         for (int i = 0; i < NP; ++i)
             A[i * NP + i] *= 1.0 + SOLVE_LM_DAMPING;
         if (solve_spd(A, b))
             return FIT_ERR_NAN;
         fit_pose_apply_step(s->m, pose, b);
-        fit_pose_clamp(pose);
+        st->clamped = fit_pose_clamp(pose);
         st->iterations = it + 1;
     }
     return 0;

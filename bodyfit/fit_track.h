@@ -69,6 +69,7 @@ typedef struct fit_segment {
     float top_y;        /* highest person point above the floor, m */
     int touches_border; /* the person reaches the image border (partly out of frame) */
     int touches_top;    /* the person reaches the top row: the head may be cut off */
+    int touches_side;   /* the person reaches the left or right border */
 } fit_segment;
 
 fit_segmenter *fit_segmenter_create(const fit_segment_desc *d, char *err, size_t errlen);
@@ -82,6 +83,18 @@ fit_frame_error fit_segmenter_frame(fit_segmenter *s, const fit_depth_view *v, f
 
 /* ---- The tracker: segmentation, fit, skinning of the published mesh ---- */
 enum { FIT_STATE_INIT = 0, FIT_STATE_TRACKING = 1, FIT_STATE_LOST = 2 }; /* body_t's states */
+
+/* Why a fit is doubted (fit_result.doubt). */
+enum {
+    FIT_DOUBT_UNEXPLAINED = 1, /* too many points farther than 4 cm from the model */
+    FIT_DOUBT_FREE_SPACE = 2,  /* too much of the model where the camera sees through */
+    FIT_DOUBT_OUT_OF_VIEW = 4, /* the person reaches the image's left or right border */
+    FIT_DOUBT_LIMITS = 8,      /* joints held at their limits by the fit */
+    FIT_DOUBT_SIDE_ON = 16     /* the body turned side-on: shoulders and hips seen edge-on */
+};
+
+/* The causes' names, space-separated ("UNEXPLAINED LIMITS"), into buf. */
+void fit_doubt_names(unsigned doubt, char *buf, size_t len);
 
 typedef struct fit_tracker_desc {
     fit_segment_desc segment;
@@ -114,6 +127,12 @@ typedef struct fit_result {
     int topology_id;   /* changes when the published mesh changes (a new shape) */
     float residual_mm; /* RMS point-to-model distance of the inlier points */
     int points_used;
+    /* How much to trust the body (docs/bodyfit.md, "Failure"): the share of the points the
+     * model explains (within 4 cm), the share of its camera-facing vertices that lie in free
+     * space, and the causes found this frame (FIT_DOUBT_* bits); a doubtful fit is published
+     * with state INIT, not TRACKING, until it has been sound for a few frames again. */
+    float explained, free_space;
+    unsigned doubt;
     double ms_segment, ms_fit, ms_skin;
 } fit_result;
 

@@ -14,8 +14,8 @@ static const char *const motion_names[] = {
 };
 
 /* Seconds per loop. Walk: two strides of 1.1 s; fast swing: two swings of 0.8 s. */
-static const double motion_durations[] = {4.0, 4.0, 6.0, 2.2, 1.6, 8.0,
-                                          6.0, 6.0, 2.0, 4.0, 4.0, 1.4};
+static const double motion_durations[] = {4.0, 4.0, 6.0, 2.2, 1.6, 8.0, 6.0, 6.0,
+                                          2.0, 4.0, 4.0, 1.4, 6.0, 8.0, 6.0};
 
 const char *fit_motion_name(fit_motion m)
 {
@@ -196,6 +196,36 @@ static void trunk(fit_pose *p, int k, double a)
     set_anat(p, FIT_CHEST, c[0], c[1], c[2]);
 }
 
+static void arms_cross(double t, fit_pose *p)
+{
+    /* Upper arms forward, in and turned inwards, elbows bent: each forearm lies across the
+     * chest toward the other side (default shape: the wrists 11 and 8 cm past the midline), the
+     * left one straighter, lower and in front, so that they cross 8 cm apart (measured from the
+     * posed joints) instead of passing through each other. */
+    double u = hold(t);
+    set_anat(p, FIT_L_SHOULDER, -1.0 * u, -1.0 * u, -0.5 * u);
+    set_anat(p, FIT_R_SHOULDER, -1.0 * u, 1.0 * u, 0.5 * u);
+    set_anat(p, FIT_L_ELBOW, -1.3 * u, 0.0, 0.0);
+    set_anat(p, FIT_R_ELBOW, -1.9 * u, 0.0, 0.0);
+}
+
+/* Facing the camera (2.5 m away at the root's origin), walks back from 1.5 m to 3.5 m over 4 s
+ * and forward again: root z from +1 to -1 m (the wall stands at -1.5). */
+static void distance(double t, fit_pose *p)
+{
+    double u = t < 4.0 ? t / 4.0 : (8.0 - t) / 4.0;
+    p->root[2] = (float)(1.0 - 2.0 * u * u * (3.0 - 2.0 * u));
+    double env = sin(3.141592653589793 * (t < 4.0 ? t / 4.0 : (t - 4.0) / 4.0));
+    p->root[1] = (float)-gait(TWO_PI * t / 1.0, env, 0.3, p);
+}
+
+/* Steps 1.3 m to the right (image right: the camera looks along -z), where the image ends 1.39 m
+ * from the axis at 2.5 m, so the far half of the body is out of view, stays, steps back. */
+static void part_out(double t, fit_pose *p)
+{
+    p->root[0] = (float)(1.3 * hold(t));
+}
+
 void fit_motion_eval(fit_motion m, double t_s, fit_pose *out)
 {
     if (!out)
@@ -243,6 +273,15 @@ void fit_motion_eval(fit_motion m, double t_s, fit_pose *out)
         break;
     case FIT_MOTION_BEND_FAST:
         trunk(out, 0, 30.0 * DEG * sin(TWO_PI * t / 0.7));
+        break;
+    case FIT_MOTION_ARMS_CROSS:
+        arms_cross(t, out);
+        break;
+    case FIT_MOTION_DISTANCE:
+        distance(t, out);
+        break;
+    case FIT_MOTION_PART_OUT:
+        part_out(t, out);
         break;
     default:
         break;

@@ -307,6 +307,7 @@ static void seg_person(fit_segmenter *s, int best, int ncomp, const comp_info *c
     out->top_y = 0.0f;
     out->touches_border = 0;
     out->touches_top = 0;
+    out->touches_side = 0;
     for (int i = 0, n = s->w * s->h; i < n; ++i) {
         int l = s->labels[i];
         s->mask[i] = l > 0 && l <= ncomp && keep[l];
@@ -320,6 +321,7 @@ static void seg_person(fit_segmenter *s, int best, int ncomp, const comp_info *c
         int x = i % s->w, y = i / s->w;
         out->touches_border |= x <= 1 || y <= 1 || x >= s->w - 2 || y >= s->h - 2;
         out->touches_top |= y <= 1;
+        out->touches_side |= x <= 1 || x >= s->w - 2;
         out->count++;
     }
     for (int k = 0; k < 3; ++k)

@@ -29,6 +29,33 @@
 /* The pelvis joint stands this far behind the visible front surface (half a body depth). */
 #define TRACK_BODY_HALF_DEPTH_M 0.10f
 
+/* Doubting a fit (docs/bodyfit.md, "Failure"): measured causes, each against what a sound fit of
+ * the same person shows. A doubtful fit is still published, with state INIT, and the shape does
+ * not learn from it; TRACKING comes back after TRACK_SOUND_FRAMES sound frames in a row. */
+#define TRACK_DOUBT_EXPLAINED 0.95f /* fewer of the points explained */
+#define TRACK_DOUBT_RMS_RATIO 1.25f /* RMS over the person's own RMS when the fit was sound */
+/* More of the model's seen vertices in free space: a shape a little off leaves 3-11 % there
+ * standing still (slim_tall: 0.10 doubted 8 of its still frames); a lost part 13-17 %. */
+#define TRACK_DOUBT_FREE_SPACE 0.15f
+#define TRACK_DOUBT_CLAMPED    4 /* more pose parameters held at their joint limits */
+#define TRACK_SOUND_FRAMES     3
+/* A fit explaining fewer of the points than this for TRACK_RESTART_FRAMES frames in a row, with
+ * the person in view, has lost a part of the body for good (an arm fitted into the chest after
+ * stepping half out of view explains 81-84 % of the points; crossed arms 92-99 %): the pose
+ * starts again from the rest pose on the next frame, the shape kept. */
+#define TRACK_RESTART_EXPLAINED 0.90f
+#define TRACK_RESTART_FRAMES    10
+/* Turned further than this from the camera, a single depth view sees the shoulders and hips
+ * edge-on and one arm not at all (cos 60 degrees: the turn recordings' error rises past it). */
+#define TRACK_DOUBT_FACING_COS 0.5f
+/* The person's sound RMS is kept per square metre of their distance from the camera: a
+ * Kinect's depth noise and its disparity steps both grow with the square of the distance (the
+ * fit's RMS over z^2 measured 1.47, 1.39, 1.39 mm/m^2 at 1.5, 2.5, 3.5 m on the `distance`
+ * recording). It learns slowly from sound fits only; a point is explained within this many of
+ * it (at least FIT_EXPLAINED_M). */
+#define TRACK_RMS_BASE_GAIN   0.05f
+#define TRACK_EXPLAINED_RMSES 4.0f
+
 struct fit_tracker {
     fit_tracker_desc d;
     fit_model *coarse, *full;
@@ -45,6 +72,9 @@ struct fit_tracker {
     double height_sum;
     int height_n;
     fit_smoother smooth; /* the published pose only */
+    float rms_base;      /* the fit's RMS while sound, mm per m^2 of distance (0: none yet) */
+    int sound_frames;    /* sound fits in a row (TRACK_SOUND_FRAMES for a new person) */
+    int failing_frames;  /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
     fit_pose published;
 };
 
@@ -129,6 +159,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     }
     t->topology_id = 1;
     t->scale = 1.0f;
+    t->sound_frames = TRACK_SOUND_FRAMES;
     track_smooth_levers(t);
     if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
         fit_shape_base_init(&t->base_full, t->full)) {
@@ -174,14 +205,38 @@ static void track_initial_pose(fit_tracker *t, const fit_segment *sg, const fit_
     t->pose.root[2] = c[2] - rest[FIT_PELVIS * 3 + 2];
 }
 
-/* Every k-th person point, about `points` of them. */
+/* About `points` of the person's points, the same image cells from frame to frame: a cell is
+ * kept when its ordered-dither threshold (a 64 x 64 Bayer matrix tiled over the grid) falls under
+ * the wanted share, which spreads the kept cells evenly at any share. Every k-th point instead
+ * moves every chosen point to a neighbouring cell whenever the person gains or loses a pixel,
+ * and the fit then follows the sampling as well as the body (docs/bodyfit.md, jitter). */
+#define TRACK_DITHER_BITS 6
+static unsigned track_dither(unsigned x, unsigned y)
+{
+    unsigned v = 0, a = x ^ y;
+    for (int bit = TRACK_DITHER_BITS - 1; bit >= 0; --bit) /* interleave (x^y, y) bit-reversed */
+        v |= (((a >> bit) & 1u) << (2 * (TRACK_DITHER_BITS - 1 - bit) + 1)) |
+             (((y >> bit) & 1u) << (2 * (TRACK_DITHER_BITS - 1 - bit)));
+    return v; /* each of 0 .. 4^bits - 1 once per tile */
+}
+
 static int track_subsample(fit_tracker *t, const fit_segment *sg)
 {
-    int n = t->d.points < sg->count ? t->d.points : sg->count;
-    for (int i = 0; i < n; ++i) {
-        size_t src = (size_t)i * (size_t)sg->count / (size_t)n;
-        memcpy(t->pts + (size_t)i * 3, sg->points + src * 3, 3 * sizeof(float));
+    if (sg->count <= t->d.points) {
+        memcpy(t->pts, sg->points, (size_t)sg->count * 3 * sizeof(float));
+        return sg->count;
     }
+    const unsigned tile = 1u << TRACK_DITHER_BITS;
+    unsigned share = (unsigned)((double)(tile * tile) * t->d.points / sg->count + 0.5);
+    int n = 0, src = 0;
+    for (int y = 0; y < sg->height; ++y)
+        for (int x = 0; x < sg->width; ++x) {
+            if (!sg->mask[y * sg->width + x])
+                continue;
+            if (track_dither((unsigned)x & (tile - 1), (unsigned)y & (tile - 1)) < share)
+                memcpy(t->pts + (size_t)n++ * 3, sg->points + (size_t)src * 3, 3 * sizeof(float));
+            src++;
+        }
     return n;
 }
 
@@ -254,6 +309,69 @@ static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *be
     fit_pose_clamp(out);
 }
 
+void fit_doubt_names(unsigned doubt, char *buf, size_t len)
+{
+    static const char *const names[] = {"UNEXPLAINED", "FREE_SPACE", "OUT_OF_VIEW", "LIMITS",
+                                        "SIDE_ON"};
+    size_t n = 0;
+    if (len)
+        buf[0] = '\0';
+    for (unsigned k = 0; k < sizeof names / sizeof names[0] && n < len; ++k)
+        if (doubt & (1u << k)) {
+            int w = snprintf(buf + n, len - n, "%s%s", n ? " " : "", names[k]);
+            n += w > 0 ? (size_t)w : 0;
+        }
+}
+
+/* The square of the person's distance along the optical axis, m^2 (at least 0.25: 0.5 m). */
+static float track_distance2(const fit_segment *sg, const fit_depth_view *v)
+{
+    const float *m = v->camera_to_world;
+    float d[3] = {sg->centroid[0] - m[3], sg->centroid[1] - m[7], sg->centroid[2] - m[11]};
+    float z = m[2] * d[0] + m[6] * d[1] + m[10] * d[2];
+    return z > 0.5f ? z * z : 0.25f;
+}
+
+/* The causes found in this frame's fit (FIT_DOUBT_* bits); a sound fit updates the person's RMS. */
+/* The cosine of the angle between the fitted body's front and the way to the camera, in the
+ * floor plane (1: facing it). */
+static float track_facing(const fit_pose *p, const fit_segment *sg, const fit_depth_view *v)
+{
+    double m[9];
+    body_axis_angle_matrix(p->rot[FIT_PELVIS], m);
+    const float *c = v->camera_to_world;
+    float fx = (float)m[2], fz = (float)m[8]; /* body +z is its front */
+    float tx = c[3] - sg->centroid[0], tz = c[11] - sg->centroid[2];
+    float l = sqrtf((fx * fx + fz * fz) * (tx * tx + tz * tz));
+    return l > 1e-6f ? (fx * tx + fz * tz) / l : 1.0f;
+}
+
+static unsigned track_doubt(fit_tracker *t, const fit_stats *st, const fit_segment *sg,
+                            const fit_result *r, float z2, float facing)
+{
+    unsigned d = 0;
+    if (facing < TRACK_DOUBT_FACING_COS)
+        d |= FIT_DOUBT_SIDE_ON;
+    float rms = st->rms_mm / z2;
+    if (r->explained < TRACK_DOUBT_EXPLAINED ||
+        (t->rms_base > 0.0f && rms > TRACK_DOUBT_RMS_RATIO * t->rms_base))
+        d |= FIT_DOUBT_UNEXPLAINED;
+    if (r->free_space > TRACK_DOUBT_FREE_SPACE)
+        d |= FIT_DOUBT_FREE_SPACE;
+    if (sg->touches_side)
+        d |= FIT_DOUBT_OUT_OF_VIEW;
+    if (st->clamped >= TRACK_DOUBT_CLAMPED)
+        d |= FIT_DOUBT_LIMITS;
+    if (!d || t->rms_base <= 0.0f)
+        t->rms_base =
+            t->rms_base > 0.0f ? t->rms_base + TRACK_RMS_BASE_GAIN * (rms - t->rms_base) : rms;
+    t->sound_frames = d ? 0 : t->sound_frames + 1;
+    int failing = r->explained < TRACK_RESTART_EXPLAINED &&
+                  !(d & (FIT_DOUBT_OUT_OF_VIEW | FIT_DOUBT_SIDE_ON));
+    t->failing_frames = failing ? t->failing_frames + 1 : 0;
+    return d;
+}
+
 static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_error e,
                                   const char *why)
 {
@@ -263,6 +381,9 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     t->have_last = 0;
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
+    t->rms_base = 0.0f;
+    t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
+    t->failing_frames = 0;
     out->state = FIT_STATE_LOST;
     out->error = e;
     if (why && why != out->message)
@@ -304,6 +425,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     track_height_update(t, &sg);
     if (fresh)
         track_initial_pose(t, &sg, v);
+    float z2 = track_distance2(&sg, v);
     fit_problem pb = {.points = t->pts,
                       .count = track_subsample(t, &sg),
                       .seg = &sg,
@@ -313,7 +435,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                       .prev = fresh ? NULL : &t->pose,
                       .iterations = fresh ? t->d.init_iterations : t->d.iterations,
                       .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
-                      .temporal = fresh ? 0.0f : t->d.temporal};
+                      .temporal = fresh ? 0.0f : t->d.temporal,
+                      .explained_m = TRACK_EXPLAINED_RMSES * 1e-3f * t->rms_base * z2};
     /* Constant velocity: the last frame's motion, scaled by predict, starts the fit and anchors
      * the temporal prior (a swinging arm is then not held back by where it was). */
     t->prev = t->pose;
@@ -326,6 +449,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->ms_fit = now_ms() - t1;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
+    out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
+    out->free_space = st.sil_checked ? (float)st.sil_violations / (float)st.sil_checked : 0.0f;
     if (rc || st.inliers < TRACK_MIN_INLIERS * (float)pb.count || st.rms_mm > TRACK_MAX_RMS_MM) {
         snprintf(out->message, sizeof out->message,
                  "%s: %s (%d of %d points within %.0f mm, RMS %.1f mm)",
@@ -333,12 +458,17 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                  st.inliers, pb.count, 1000.0f * pb.max_match_m, st.rms_mm);
         return track_lost(t, out, FIT_FRAME_FIT, NULL);
     }
+    out->doubt = track_doubt(t, &st, &sg, out, z2, track_facing(&pose, &sg, v));
     t->last = t->pose;
     t->have_last = !fresh;
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
-    if (!t->d.fixed_shape)
+    /* The first frames estimate the shape whatever the doubt; after them a doubtful fit does not
+     * teach the shape (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm;
+     * part_out, enter_leave, turn s2 1-2 mm better too; fast_swing s1 65 -> 92 mm worse: its
+     * arm is lost either way, docs/bodyfit.md). */
+    if (!t->d.fixed_shape && (!out->doubt || t->person_frames <= t->d.shape_frames))
         track_shape_update(t);
     double t2 = now_ms();
     t->published = t->pose;
@@ -348,8 +478,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         fit_smoother_step(&t->smooth, &t->pose, &t->published);
     fit_model_pose(t->full, &t->published, t->verts, out->joints);
     out->ms_skin = now_ms() - t2;
-    out->state = t->d.fixed_shape || t->person_frames > t->d.shape_frames ? FIT_STATE_TRACKING
-                                                                          : FIT_STATE_INIT;
+    int settled = t->d.fixed_shape || t->person_frames > t->d.shape_frames;
+    out->state =
+        settled && t->sound_frames >= TRACK_SOUND_FRAMES ? FIT_STATE_TRACKING : FIT_STATE_INIT;
     out->pose = t->published;
     out->shape = t->shape;
     out->vertices = t->verts;
@@ -357,5 +488,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->triangles = fit_model_triangles(t->full);
     out->triangle_count = fit_model_triangle_count(t->full);
     out->topology_id = t->topology_id;
+    if (t->failing_frames >= TRACK_RESTART_FRAMES) { /* this body is published, then restart */
+        t->have_pose = t->have_last = 0;
+        t->failing_frames = 0;
+    }
     return FIT_FRAME_OK;
 }

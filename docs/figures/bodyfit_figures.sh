@@ -3,13 +3,14 @@
 # runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
 # $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
-#        fails tradeoffs smooth pipeline; all by default; a section left out keeps its data from an earlier run)
+#        fails tradeoffs smooth cloth pipeline; all by default; a section left out keeps its data
+#        from an earlier run)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
 B=${1:-build}
 [ $# -gt 0 ] && shift
-SECTIONS=${*:-headline sweep fails tradeoffs smooth pipeline}
+SECTIONS=${*:-headline sweep fails tradeoffs smooth cloth pipeline}
 want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/bodyfit/tryon-bench-fit
 SYNTH=$B/recordings/tryon-synth
@@ -57,11 +58,23 @@ if want sweep; then
   done
 fi
 
-# 3. where it fails: walking in and out of the frame (enter_leave, 8 s), the side-on turn,
-#    the fast swing, the box in front (one recording each, the whole motion)
+# 3. where it fails: arms crossed before the chest (6 s), the side-on turn, the fast swing,
+#    half out of the frame (part_out, 6 s), walking in and out (enter_leave, 8 s), 1.5 -> 3.5 m
+#    and back (distance, 8 s), the box in front (one recording each, the whole motion)
 if want fails; then
-  "$BENCH" "$(rec enter_leave 0 240)" "$(rec turn 2 180)" "$(rec fast_swing 1 48)" \
+  "$BENCH" "$(rec arms_cross 0 180)" "$(rec turn 2 180)" "$(rec fast_swing 1 48)" \
+      "$(rec part_out 0 180)" "$(rec enter_leave 0 240)" "$(rec distance 0 240)" \
       "$(rec occlusion 0 120)" > "$OUT/fails.txt"
+  # the distance walk per band of distance (the motion's own distance: 1.5 + 2 smoothstep(u) m)
+  "$BENCH" --scores "$OUT/distance_scores.txt" "$(rec distance 0 240)" > "$OUT/distance.txt"
+  awk '{ t = $2 / 30.0; u = t < 4 ? t / 4 : (8 - t) / 4; d = 1.5 + 2 * u * u * (3 - 2 * u);
+         b = d < 2.0 ? 0 : (d < 2.5 ? 1 : (d < 3.0 ? 2 : 3));
+         n[b]++; s[b] += $5; j[b] += $6; bad[b] += ($5 > 15 || $6 > 40); dbt[b] += ($3 != 1) }
+       END { split("1.5-2.0 2.0-2.5 2.5-3.0 3.0-3.5", nm, " ");
+             for (b = 0; b < 4; b++)
+               printf "%s m: %d frames, surface %.1f mm, joints %.1f mm, bad %d, not tracking %d\n",
+                      nm[b + 1], n[b], s[b] / n[b], j[b] / n[b], bad[b], dbt[b] }' \
+      "$OUT/distance_scores.txt" > "$OUT/distance_bands.txt"
 fi
 
 # 4. the temporal prior's weight and the constant-velocity start, on still, fast swing, walk
@@ -118,6 +131,13 @@ if want smooth; then
     # shellcheck disable=SC2086 # args are words
     "$BENCH" $args $SMOOTH_RECS >> "$OUT/smooth.txt"
   done
+fi
+
+# 5b. the shirt on the fitted body against the shirt on the true body (cloth_vs_truth_mm, a
+#     600-vertex shirt, the sim's defaults): standing still on all three shapes, walk, arm raise
+if want cloth; then
+  "$BENCH" --cloth-vertices 600 "$(rec still 0)" "$(rec still 1)" "$(rec still 2)" \
+      "$(rec walk 0)" "$(rec arm_raise 0)" > "$OUT/cloth.txt"
 fi
 
 # 6. the demo (walk, 90 frames) three ways: fitted without the filter, fitted, the true body;

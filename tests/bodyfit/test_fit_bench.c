@@ -30,7 +30,14 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench"), 0);
     snprintf(out, sizeof out, "%s/out", dir);
     snprintf(log, sizeof log, "%s/log.txt", dir);
-    char *argv[] = {TRYON_BENCH_FIT_EXE, "--out", out, TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
+    char scores[500];
+    snprintf(scores, sizeof scores, "%s/scores.txt", dir);
+    char *argv[] = {TRYON_BENCH_FIT_EXE,
+                    "--out",
+                    out,
+                    "--scores",
+                    scores,
+                    TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
                     NULL};
     pid_t pid = ts_spawn_out(argv, NULL, log);
     assert_true(pid > 0);
@@ -46,6 +53,24 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_true(json_field(json, "ms_median") > 0.0);
     assert_true(json_field(json, "tracked_fraction") == 1.0);
     assert_true(json_field(json, "frames") == 4.0);
+    assert_true(json_field(json, "cloth_vs_truth_mm") == -1.0); /* not asked for */
+    free(text);
+    /* --scores: a line per frame, its errors those of the JSON line's range */
+    text = ts_read_file(scores);
+    assert_non_null(text);
+    int lines = 0;
+    for (const char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+        int frame, st;
+        unsigned doubt;
+        double surf, joints;
+        assert_int_equal(
+            sscanf(l, "arm_raise_s0_exact %d %d %u %lf %lf", &frame, &st, &doubt, &surf, &joints),
+            5);
+        assert_int_equal(frame, lines);
+        assert_true(surf > 0.0 && surf < 10.0 && joints > 0.0 && joints < 30.0);
+        lines++;
+    }
+    assert_int_equal(lines, 4);
     free(text);
     struct stat st;
     for (int k = 0; k < 4; ++k) {
@@ -63,6 +88,31 @@ static void test_fit_bench_scores_and_writes(void **state)
     double x, y, z;
     assert_int_equal(sscanf(pel + strlen("\"pelvis\": ["), "%lf, %lf, %lf", &x, &y, &z), 3);
     assert_true(z > 2.3 && z < 2.7 && x > -0.2 && x < 0.2);
+    free(text);
+    ts_remove_dir(dir);
+}
+
+/* The shirt on the fitted and on the true body: the same garment, close on a noise-free fit. */
+static void test_fit_bench_cloth_vs_truth(void **state)
+{
+    (void)state;
+    char dir[256], log[400];
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench3"), 0);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    char *argv[] = {TRYON_BENCH_FIT_EXE, "--cloth-vertices", "300",
+                    TRYON_SAMPLES_DIR "/arm_raise_s0_exact", NULL};
+    pid_t pid = ts_spawn_out(argv, NULL, log);
+    assert_true(pid > 0);
+    int rc = ts_wait(pid, 100000);
+    char *text = ts_read_file(log);
+    printf("%s", text ? text : "(no output)\n");
+    assert_int_equal(rc, 0);
+    assert_non_null(text);
+    const char *json = strrchr(text, '{');
+    assert_non_null(json);
+    double d = json_field(json, "cloth_vs_truth_mm");
+    assert_true(d > 0.0 && d < 20.0);
+    assert_true(json_field(json, "cloth_vertices") == 300.0);
     free(text);
     ts_remove_dir(dir);
 }
@@ -102,6 +152,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fit_bench_scores_and_writes),
+        cmocka_unit_test(test_fit_bench_cloth_vs_truth),
         cmocka_unit_test(test_fit_bench_without_truth_and_bad_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -147,6 +147,17 @@ static void test_fit_process_bodies_bad_frames_and_burst(void **state)
         pump(lcm, 500);
     }
 
+    /* Stepped half out of the image: published, but as init, the doubt named in the log. */
+    pose.root[0] = 1.3f;
+    fit_scene_pose(body, &pose, v);
+    fit_scene_render(frame, 0, body, list, 1);
+    int out_first = seq, out_last = seq + 2;
+    for (int k = 0; k < 3; k++) {
+        send_depth(lcm, ch_depth, seq++, &frame->view);
+        pump(lcm, 400);
+    }
+    pump(lcm, 600);
+
     int status = ts_stop(pid, SIGTERM, 10000);
     char *log = ts_read_file(out);
     remove(out);
@@ -163,6 +174,11 @@ static void test_fit_process_bodies_bad_frames_and_burst(void **state)
     assert_non_null(strstr(log, "FIT_FRAME_INTRINSICS"));
     assert_non_null(strstr(log, "FIT_FRAME_EMPTY"));
     assert_non_null(strstr(log, "skipped (newest wins)"));
+    assert_true(s.got[out_last] && s.state[out_last] == 0 && s.nv[out_last] > 1000);
+    for (int k = out_first; k <= out_last; k++)
+        assert_true(!s.got[k] || s.state[k] != 1); /* never tracking while half out of view */
+    assert_non_null(strstr(log, "fit doubted ("));
+    assert_non_null(strstr(log, "OUT_OF_VIEW"));
     free(log);
     free(zero);
     free(v);

@@ -83,8 +83,8 @@ static void test_still_noise_is_smoothed(void **state)
 }
 
 /* Frames until every root component is within 5 mm and every rotation within 0.01 rad of a step
- * of 0.3 m and 0.4 rad; 100 if never. */
-static int frames_to_follow(const fit_smooth_desc *d, float pelvis_lever_m)
+ * of root_step_m and 0.4 rad; 100 if never. */
+static int frames_to_follow(const fit_smooth_desc *d, float pelvis_lever_m, float root_step_m)
 {
     fit_smoother s;
     fit_smoother_init(&s, d);
@@ -96,7 +96,7 @@ static int frames_to_follow(const fit_smooth_desc *d, float pelvis_lever_m)
     fit_pose a, b, out;
     mid_pose(&a);
     b = a;
-    b.root[0] += 0.3f;
+    b.root[0] += root_step_m;
     b.rot[FIT_PELVIS][1] += 0.4f;
     for (int f = 0; f < 10; ++f)
         fit_smoother_step(&s, &a, &out);
@@ -111,20 +111,25 @@ static int frames_to_follow(const fit_smooth_desc *d, float pelvis_lever_m)
 
 /* The speed raises the cut-off: the defaults follow a step within 10 frames (a third of a
  * second); the same filter held at its resting cut-off (a tiny beta) would not; a joint with a
- * short reach opens it later. */
+ * short reach opens it later, unless the whole body moves (the root's speed opens it too). */
 static void test_step_is_followed(void **state)
 {
     (void)state;
-    int adaptive = frames_to_follow(NULL, 1.0f);
+    int adaptive = frames_to_follow(NULL, 1.0f, 0.3f);
     fit_smooth_desc slow = {.beta_root = 1e-6f, .beta_rot = 1e-6f};
-    int fixed = frames_to_follow(&slow, 1.0f);
+    int fixed = frames_to_follow(&slow, 1.0f, 0.3f);
     /* the same turn of a joint that reaches 5 cm (a hand) is smoothed longer */
-    int short_lever = frames_to_follow(NULL, 0.05f);
-    print_message("step followed in %d frames (a fixed %.1f Hz low-pass: %d)\n", adaptive,
-                  (double)FIT_SMOOTH_MIN_CUTOFF_HZ, fixed);
+    int long_lever = frames_to_follow(NULL, 1.0f, 0.0f);
+    int short_lever = frames_to_follow(NULL, 0.05f, 0.0f);
+    int short_with_body = frames_to_follow(NULL, 0.05f, 0.3f);
+    print_message("step followed in %d frames (a fixed %.1f Hz low-pass: %d); a turn alone: %d "
+                  "frames, %d with a 5 cm reach, %d when the body moves 0.3 m with it\n",
+                  adaptive, (double)FIT_SMOOTH_MIN_CUTOFF_HZ, fixed, long_lever, short_lever,
+                  short_with_body);
     assert_true(adaptive <= 10);
     assert_true(fixed > 20);
-    assert_true(short_lever > adaptive);
+    assert_true(short_lever > long_lever);
+    assert_true(short_with_body < short_lever);
 }
 
 static void test_reset_passes_through(void **state)
