@@ -1,5 +1,6 @@
 /* tryon-sim: BODY in, CLOTH and TIMING out. The garment is loaded (--garment FILE) or generated
  * around the first body received; every body frame is one sim_step. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,6 +17,9 @@
 #define SIM_MAIN_JOINTS          21 /* bodyfit's FIT_JOINT_COUNT */
 #define SIM_MAIN_SHAPE           FIT_SHAPE_PARAMS
 #define SIM_MAIN_POSE            FIT_POSE_PARAMS
+/* Shape parameters (metres) within this of those the garment was made on are the same shape: a
+ * third of the shirt's ease (15 mm at size M) */
+#define SIM_MAIN_SHAPE_SAME_M 0.005f
 /* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
  * body: one made on a body that cannot carry it never recovers. */
 #define SIM_MAIN_DIVERGED_REBUILD 30
@@ -62,8 +66,10 @@ typedef struct app {
     int diverged_run;     /* bodies in a row on which the garment diverged */
     int made_on_init;     /* the garment was made on, or has since met, an INIT body: a shape
                              still estimated (a person entering, or entering again) */
-    int fatal;            /* an error no body can fix (the garment file): exit 1 */
-    float *xyz;           /* cloth vertices for the message */
+    int made_num_shape;   /* the shape the garment was made on (0: the body carried none) */
+    float made_shape[SIM_MAIN_SHAPE];
+    int fatal;  /* an error no body can fix (the garment file): exit 1 */
+    float *xyz; /* cloth vertices for the message */
     char channel_cloth[BUS_CHANNEL_MAX];
     sim_outfit outfit, wanted, before; /* worn, asked for over CONTROL (sim/outfit.c), last */
     int want_switch, controls_refused;
@@ -153,6 +159,8 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     a->garment_gen = topo->gen;
     a->diverged_run = 0;
     a->made_on_init = b->state == TRYON_BODY_T_STATE_INIT;
+    a->made_num_shape = b->num_shape;
+    memcpy(a->made_shape, b->shape, sizeof a->made_shape);
     a->topology++;
     a->tris_due = 1;
     fprintf(stderr, "tryon-sim: garment %s, %d vertices, %s solver on %s, made in %.0f ms\n",
@@ -307,6 +315,21 @@ static int fall_back(app *a, const pending_body *b, const sim_topology *topo)
     return make_sim(a, b, topo);
 }
 
+/* Back to TRACKING after INIT bodies: whether the shape moved since the garment was made. The
+ * fitter holds the shape while it doubts a fit (published INIT), so a doubt leaves it where it
+ * was and the garment goes on; a person entering has their shape estimated over their first
+ * frames, and the garment made on the first of them is made again. A body that carries no shape
+ * (or did not when the garment was made) says nothing: made again. */
+static int shape_moved(const app *a, const pending_body *b)
+{
+    if (!b->num_shape || b->num_shape != a->made_num_shape)
+        return 1;
+    for (int k = 0; k < b->num_shape; k++)
+        if (!(fabsf(b->shape[k] - a->made_shape[k]) <= SIM_MAIN_SHAPE_SAME_M))
+            return 1;
+    return 0;
+}
+
 static void step_body(app *a)
 {
     pending_body *b = &a->next;
@@ -332,11 +355,14 @@ static void step_body(app *a)
     if (b->state == TRYON_BODY_T_STATE_INIT)
         a->made_on_init = 1;
     if (a->sim && a->made_on_init && b->state == TRYON_BODY_T_STATE_TRACKING) {
-        fprintf(stderr,
-                "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
-                "garment is made again on it\n",
-                b->seq);
-        drop_sim(a);
+        a->made_on_init = 0;
+        if (shape_moved(a, b)) {
+            fprintf(stderr,
+                    "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
+                    "garment is made again on it\n",
+                    b->seq);
+            drop_sim(a);
+        }
     }
     if (!a->sim && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
         a->refused++;

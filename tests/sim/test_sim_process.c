@@ -13,6 +13,7 @@
 
 #include <cmocka.h>
 
+#include "bodyfit.h"
 #include "bus.h"
 #include "scene.h"
 #include "sim.h"
@@ -45,6 +46,8 @@ static void on_timing(const char *ch, const void *m, void *user)
 }
 
 static int8_t body_state = TRYON_BODY_T_STATE_TRACKING; /* the state of the bodies sent */
+static float body_shape[FIT_SHAPE_PARAMS];              /* their shape, when body_has_shape */
+static int body_has_shape;
 
 static void send_body(lcm_t *lcm, const char *ch, sim_scene *sc, int seq, int degenerate)
 {
@@ -60,6 +63,8 @@ static void send_body(lcm_t *lcm, const char *ch, sim_scene *sc, int seq, int de
     tryon_body_t b = {.utime_capture = bus_now_wall_us(),
                       .seq = seq,
                       .state = body_state,
+                      .num_shape = body_has_shape ? FIT_SHAPE_PARAMS : 0,
+                      .shape = body_has_shape ? body_shape : NULL,
                       .topology_id = 1,
                       .num_vertex_coords = nv * 3,
                       .vertices = (float *)xyz,
@@ -311,6 +316,51 @@ static void test_sim_process_redress_when_tracking(void **state)
     assert_false(said_thrice);
 }
 
+/* Bodies with a shape: INIT then TRACKING remakes the garment only where the shape moved since
+ * it was made. A doubt (bodyfit publishes INIT and holds the shape) keeps the garment; the shape
+ * settling after someone enters, or someone else entering, makes it again. */
+static void test_sim_process_doubt_keeps_garment(void **state)
+{
+    (void)state;
+    session s;
+    body_has_shape = 1;
+    body_state = TRYON_BODY_T_STATE_INIT;
+    session_start(&s, "doubt",
+                  (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", NULL});
+    static const int8_t I = TRYON_BODY_T_STATE_INIT, T = TRYON_BODY_T_STATE_TRACKING;
+    /* entering (shape 0.30 m while estimated, 0.32 once settled); a doubt with the shape held;
+     * someone else (0.36); a doubt whose shape moves by less than the 5 mm tolerance */
+    static const int8_t phases[4][4] = {{I, I, T, T}, {I, I, T, T}, {I, I, T, T}, {I, T, T, -1}};
+    static const float first[4] = {0.30f, 0.32f, 0.36f, 0.362f},
+                       settled[4] = {0.32f, 0.32f, 0.36f, 0.362f};
+    int garments[4];
+    for (int p = 0; p < 4; p++) {
+        for (int k = 0; k < 4 && phases[p][k] >= 0; k++) {
+            body_state = phases[p][k];
+            for (int j = 0; j < FIT_SHAPE_PARAMS; j++)
+                body_shape[j] = body_state == I ? first[p] : settled[p];
+            send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
+            lcm_handle_timeout(s.lcm, 50);
+        }
+        for (int k = 0; k < 100 && s.n.last_seq != s.seq - 1; k++)
+            lcm_handle_timeout(s.lcm, 100);
+        garments[p] = s.n.garments;
+    }
+    body_has_shape = 0;
+    body_state = TRYON_BODY_T_STATE_TRACKING;
+    char *log;
+    int status = session_stop(&s, &log);
+    printf("# garments after each phase: %d %d %d %d; log:\n%s", garments[0], garments[1],
+           garments[2], garments[3], log ? log : "(none)");
+    free(log);
+    assert_int_equal(status, 0);
+    assert_int_equal(s.n.last_seq, s.seq - 1);
+    assert_int_equal(garments[0], 2); /* made on entering, again once the shape settled */
+    assert_int_equal(garments[1], 2); /* a doubt: the same shape, the same garment */
+    assert_int_equal(garments[2], 3); /* someone else */
+    assert_int_equal(garments[3], 3); /* 2 mm is the same shape */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +369,7 @@ int main(void)
         cmocka_unit_test(test_sim_process_auto_backend),
         cmocka_unit_test(test_sim_process_stats_file),
         cmocka_unit_test(test_sim_process_redress_when_tracking),
+        cmocka_unit_test(test_sim_process_doubt_keeps_garment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
