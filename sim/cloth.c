@@ -72,6 +72,34 @@ static int half_edge_cmp(const void *a, const void *b)
     return (x->opposite > y->opposite) - (x->opposite < y->opposite);
 }
 
+/* A mesh's free edges bound as a garment's edges are (binding tape, a hem): a stretch spring
+ * across every boundary vertex, from one of its boundary neighbours to the other. A free edge
+ * carries the weight of the cloth hanging from it as a chain does, and a Gauss-Seidel sweep moves
+ * a correction one spring along it: a long one (a shirt's armhole) then crept to the settle
+ * threshold every frame (docs/sim-history.md, "The armholes' cost"). he: sorted half-edges. */
+static int springs_binding(spring_list *l, const half_edge *he, int n, int nv)
+{
+    int32_t(*nb)[2] = malloc((size_t)nv * sizeof *nb);
+    uint8_t *deg = calloc((size_t)nv, 1);
+    int r = nb && deg ? 0 : -SIM_ERR_NO_MEMORY;
+    for (int i = 0; i < n && r == 0; i++) {
+        if ((i > 0 && he[i].key == he[i - 1].key) || (i + 1 < n && he[i + 1].key == he[i].key))
+            continue; /* an inner edge */
+        int32_t e[2] = {(int32_t)(he[i].key / nv), (int32_t)(he[i].key % nv)};
+        for (int k = 0; k < 2; k++) {
+            if (deg[e[k]] < 2)
+                nb[e[k]][deg[e[k]]] = e[1 - k];
+            deg[e[k]] = deg[e[k]] < 3 ? deg[e[k]] + 1 : 3;
+        }
+    }
+    for (int v = 0; v < nv && r == 0; v++)
+        if (deg[v] == 2 && nb[v][0] != nb[v][1])
+            r = spring_push(l, nb[v][0], nb[v][1], SIM_SPRING_STRETCH);
+    free(nb);
+    free(deg);
+    return r;
+}
+
 /* Any triangle mesh: stretch on every edge, bend between the opposite vertices of the two
  * triangles sharing an edge; no shear (the triangulation's diagonals already resist it). */
 static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv)
@@ -97,6 +125,8 @@ static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv)
             he[i].opposite != he[i + 1].opposite)
             r = spring_push(l, he[i].opposite, he[i + 1].opposite, SIM_SPRING_BEND);
     }
+    if (r == 0)
+        r = springs_binding(l, he, nt * 3, nv);
     free(he);
     return r;
 }
