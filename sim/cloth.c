@@ -72,9 +72,62 @@ static int half_edge_cmp(const void *a, const void *b)
     return (x->opposite > y->opposite) - (x->opposite < y->opposite);
 }
 
+/* The free edges a garment hangs by bound, as a garment's armholes and necklines are (binding
+ * tape): a stretch spring across every vertex of a boundary loop that holds an attachment, from
+ * one of its boundary neighbours to the other. Such an edge carries the cloth hanging from it as
+ * a chain does, and a Gauss-Seidel sweep moves a correction one spring along it: a shirt's
+ * armholes crept to the settle threshold every frame (docs/sim-history.md, "The armholes'
+ * cost"). A loop without attachments (a hem) hangs free and is left as it is: bound, the shirt's
+ * hem took more strain retries. he: the sorted half-edges; attached: nv flags. */
+static int springs_binding(spring_list *l, const half_edge *he, int n, int nv,
+                           const uint8_t *attached)
+{
+    int32_t(*nb)[2] = malloc((size_t)nv * sizeof *nb);
+    uint8_t *deg = calloc((size_t)nv, 1), *seen = calloc((size_t)nv, 1);
+    int r = nb && deg && seen ? 0 : -SIM_ERR_NO_MEMORY;
+    for (int i = 0; i < n && r == 0; i++) {
+        if ((i > 0 && he[i].key == he[i - 1].key) || (i + 1 < n && he[i + 1].key == he[i].key))
+            continue; /* an inner edge */
+        int32_t e[2] = {(int32_t)(he[i].key / nv), (int32_t)(he[i].key % nv)};
+        for (int k = 0; k < 2; k++) {
+            if (deg[e[k]] < 2)
+                nb[e[k]][deg[e[k]]] = e[1 - k];
+            deg[e[k]] = deg[e[k]] < 3 ? deg[e[k]] + 1 : 3;
+        }
+    }
+    for (int v0 = 0; v0 < nv && r == 0; v0++) {
+        if (deg[v0] != 2 || seen[v0])
+            continue;
+        /* walk the loop (or the chain, up to a non-manifold vertex) once to see if it holds an
+           attachment, then once more to bind it */
+        for (int pass = 0, bind = 0; pass < 2 && r == 0; pass++) {
+            for (int prev = nb[v0][1], v = v0, steps = 0; steps < nv && r == 0; steps++) {
+                if (pass == 0) {
+                    seen[v] = 1;
+                    bind |= attached[v];
+                } else if (bind && nb[v][0] != nb[v][1]) {
+                    r = spring_push(l, nb[v][0], nb[v][1], SIM_SPRING_STRETCH);
+                }
+                int next = nb[v][0] == prev ? nb[v][1] : nb[v][0];
+                prev = v;
+                v = next;
+                if (v == v0 || deg[v] != 2)
+                    break;
+            }
+            if (!bind)
+                break;
+        }
+    }
+    free(nb);
+    free(deg);
+    free(seen);
+    return r;
+}
+
 /* Any triangle mesh: stretch on every edge, bend between the opposite vertices of the two
  * triangles sharing an edge; no shear (the triangulation's diagonals already resist it). */
-static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv)
+static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv,
+                        const uint8_t *attached)
 {
     half_edge *he = malloc((size_t)nt * 3 * sizeof *he);
     if (!he)
@@ -97,6 +150,8 @@ static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv)
             he[i].opposite != he[i + 1].opposite)
             r = spring_push(l, he[i].opposite, he[i + 1].opposite, SIM_SPRING_BEND);
     }
+    if (r == 0)
+        r = springs_binding(l, he, nt * 3, nv, attached);
     free(he);
     return r;
 }
@@ -421,8 +476,13 @@ int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_
     c->k[SIM_SPRING_BEND] = f->bend_n_m;
 
     spring_list l = {0};
-    int r = g->grid_w > 0 ? springs_grid(&l, g->grid_w, g->grid_h)
-                          : springs_mesh(&l, g->triangles, nt, nv);
+    uint8_t *attached = calloc((size_t)nv, 1);
+    for (int a = 0; attached && a < g->num_attachments; a++)
+        attached[g->attachments[a].vertex] = 1;
+    int r = !attached       ? -SIM_ERR_NO_MEMORY
+            : g->grid_w > 0 ? springs_grid(&l, g->grid_w, g->grid_h)
+                            : springs_mesh(&l, g->triangles, nt, nv, attached);
+    free(attached);
     if (r == 0)
         r = colour_springs(c, &l, why);
     free(l.ends);
