@@ -8,6 +8,7 @@
 
 #include "carry.h"
 #include "cloth.h"
+#include "passes.h"
 
 const char *sim_state_name(sim_state s)
 {
