@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
 
 /* Depth bound of either tree. An LBVH over 30-bit codes extended by a 32-bit index: each level
    lengthens the common prefix by at least one bit. The SAH build: SAH splits down to SAH_DEPTH,

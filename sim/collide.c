@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 #define DEFAULT_THICKNESS_M 0.004f /* sim.h default: cloth kept 4 mm off the skin */
 #define DEFAULT_REACH_M                                                                            \

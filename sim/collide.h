@@ -21,6 +21,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "collide_bvh.h" /* the collider holds the body's BVH (struct sim_collider, below) */
+
 /* Errors a test can name (STYLE.md 11). */
 #define SIM_COLLIDE_ERROR_LIST(X)                                                                  \
     X(SIM_COLLIDE_OK, 0, "ok")                                                                     \
@@ -120,10 +122,6 @@ const sim_bvh *sim_collider_bvh(const sim_collider *c);
 const int32_t *sim_collider_contacts(const sim_collider *c); /* cached triangle per point */
 int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (**v_prev)[4],
                       const int32_t (**tris)[4], const float (**n)[4]); /* returns nt */
-
-/* The geometry shared with the OpenCL twins and the LBVH, in headers of their own. */
-#include "collide_bvh.h"
-#include "collide_geometry.h"
 
 /* ---- The collider's state (private to sim/: collide.c, feature_points.c, cl_backend.c) ------ */
 

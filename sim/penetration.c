@@ -15,6 +15,8 @@
 #include <math.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 /* Hits this close to q (as a fraction of |p - q|) are the surface at q itself. */
 #define SEG_END 0.999f
