@@ -100,7 +100,7 @@ static int publish(run_state *r, lcm_t *lcm, const cap_frame *f, const char *sou
                                .data = r->bytes};
     memcpy(msg.camera_to_world, r->c2w, sizeof r->c2w);
     bus_reject why;
-    bus_error e = bus_publish(lcm, r->channel, BUS_DEPTH_FRAME, &msg, &why);
+    int e = bus_publish(lcm, r->channel, BUS_DEPTH_FRAME, &msg, &why);
     if (e != BUS_OK) {
         snprintf(err, errlen, "frame %d on %s: %s (%s)", f->seq, r->channel, bus_error_text(e),
                  why.detail);
