@@ -53,7 +53,7 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
         !b->shi || !b->refit_list || !b->refit_task || !b->scratch || !b->wide || !b->wide_node ||
         !b->wleaf) {
         sim_bvh_free(b);
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     }
     return 0;
 }
