@@ -11,7 +11,7 @@ int bus_channel(const char *base, char *out, size_t out_size)
 {
     const char *prefix = getenv("TRYON_CHANNEL_PREFIX");
     int n = snprintf(out, out_size, "%s%s", prefix ? prefix : "", base);
-    return (n < 0 || (size_t)n >= out_size) ? -1 : 0;
+    return (n < 0 || (size_t)n >= out_size) ? -BUS_ERR_STRING : 0;
 }
 
 const char *bus_default_url(void)

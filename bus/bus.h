@@ -22,7 +22,7 @@
 #define BUS_CHANNEL_TIMING  "TIMING"
 #define BUS_CHANNEL_CONTROL "CONTROL"
 #define BUS_CHANNEL_MAX     96
-/* Writes prefix + base into out. Returns 0, or -1 if it does not fit. */
+/* Writes prefix + base into out. Returns 0, or -BUS_ERR_STRING if it does not fit. */
 int bus_channel(const char *base, char *out, size_t out_size);
 
 /* The default URL: multicast that never leaves the host (ttl=0), with a kernel receive buffer
@@ -106,7 +106,7 @@ void bus_msg_free(bus_type t, void *msg);
  * without a valid tag (another machine's, or anyone's without the key) are refused as
  * BUS_ERR_AUTH. bus_open loads the key; lcm-logger logs keep the tags, replays verify them. */
 #define BUS_TAG_BYTES 32
-int bus_key_load(char *err, size_t err_size); /* 0, or -1 with the reason in err */
+int bus_key_load(char *err, size_t err_size); /* 0, or -BUS_ERR_AUTH with the reason in err */
 const char *bus_key_path(void);
 /* Writes the tag of buf[0..len) on channel at buf[len] (room for BUS_TAG_BYTES needed). */
 int bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why);

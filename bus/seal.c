@@ -102,14 +102,14 @@ int bus_key_load(char *err, size_t err_size)
         return 0;
     if (sodium_init() < 0) {
         snprintf(err, err_size, "libsodium failed to initialise");
-        return -1;
+        return -BUS_ERR_AUTH;
     }
     if (choose_path(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     if (access(key_path, F_OK) != 0 && create_key(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     if (read_key(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     key_loaded = 1;
     return 0;
 }

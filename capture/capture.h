@@ -92,7 +92,7 @@ typedef struct cap_rate {
     cap_rate_mode mode;
     double fps;
 } cap_rate;
-int cap_rate_parse(const char *s, cap_rate *out); /* "realtime", "max" or a number; 0 = ok */
+int cap_rate_parse(const char *s, cap_rate *out); /* "realtime", "max" or fps; 0 or -CAP_ERR_ARG */
 
 typedef struct cap_pacer {
     cap_rate rate;

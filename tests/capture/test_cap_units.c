@@ -52,7 +52,7 @@ static void test_rate_parsing(void **state)
     assert_int_equal(cap_rate_parse("12.5", &r), 0);
     assert_int_equal(r.mode, CAP_RATE_FPS);
     assert_true(r.fps == 12.5);
-    assert_int_not_equal(cap_rate_parse("0", &r), 0);
+    assert_int_equal(cap_rate_parse("0", &r), -CAP_ERR_ARG);
     assert_int_not_equal(cap_rate_parse("-3", &r), 0);
     assert_int_not_equal(cap_rate_parse("30fps", &r), 0);
     assert_int_not_equal(cap_rate_parse(NULL, &r), 0);
