@@ -60,7 +60,7 @@ int main(int argc, char **argv)
     float *v = malloc((size_t)fit_model_vertex_count(m) * 3 * sizeof(float));
     fit_pose pose;
     fit_motion_eval((fit_motion)motion, t, &pose);
-    int rc = v ? fit_model_pose(m, &pose, v, NULL) : FIT_ERR_NOMEM;
+    int rc = v ? fit_model_pose(m, &pose, v, NULL) : -FIT_ERR_NOMEM;
     if (!rc)
         rc = fit_model_write_obj(m, v, argv[1]);
     if (rc)

@@ -124,22 +124,24 @@ void fit_motion_eval(fit_motion m, double t_s, fit_pose *out);
 
 /* ---- Errors, validation, measurement, skin weights. ---- */
 
-/* Errors as values; one list makes the enum and the messages so a test can name the rejection. */
+/* Errors as values; one list makes the enum and the messages so a test can name the rejection.
+ * Functions return 0 or -FIT_ERR_x (docs/building.md, "Conventions: errors"). */
 #define FIT_ERROR_LIST(X)                                                                          \
-    X(FIT_OK, 0, "ok")                                                                             \
-    X(FIT_ERR_ARG, -1, "missing or invalid argument")                                              \
-    X(FIT_ERR_NAN, -2, "value is not finite")                                                      \
-    X(FIT_ERR_RANGE, -3, "value out of range")                                                     \
-    X(FIT_ERR_NOMEM, -4, "out of memory")                                                          \
-    X(FIT_ERR_IO, -5, "file could not be written")                                                 \
-    X(FIT_ERR_MESH, -6, "mesh generation failed")                                                  \
-    X(FIT_ERR_MEASURE, -7, "measurement failed")                                                   \
-    X(FIT_ERR_PARSE, -8, "malformed file")
+    X(FIT_OK, "ok")                                                                                \
+    X(FIT_ERR_ARG, "missing or invalid argument")                                                  \
+    X(FIT_ERR_NAN, "value is not finite")                                                          \
+    X(FIT_ERR_RANGE, "value out of range")                                                         \
+    X(FIT_ERR_NOMEM, "out of memory")                                                              \
+    X(FIT_ERR_IO, "file could not be written")                                                     \
+    X(FIT_ERR_MESH, "mesh generation failed")                                                      \
+    X(FIT_ERR_MEASURE, "measurement failed")                                                       \
+    X(FIT_ERR_PARSE, "malformed file")
 
-#define FIT_ERROR_ENUM(id, code, msg) id = code,
-typedef enum fit_error { FIT_ERROR_LIST(FIT_ERROR_ENUM) } fit_error;
+#define FIT_ERROR_ENUM(id, msg) id,
+typedef enum fit_error { FIT_ERROR_LIST(FIT_ERROR_ENUM) FIT_ERROR_COUNT } fit_error;
 #undef FIT_ERROR_ENUM
-const char *fit_error_string(int code);
+const char *fit_error_name(int code);   /* "FIT_ERR_PARSE"; accepts code or -code */
+const char *fit_error_string(int code); /* "malformed file"; accepts code or -code */
 
 /* Checks every shape parameter against its range (see docs/body-model.md). Returns 0 or a
  * negative fit_error; err (may be NULL) names the parameter and the range. */
@@ -187,7 +189,7 @@ const float *fit_model_rest_joints(const fit_model *m);     /* [joint][3] */
 #define FIT_BVH_MAX_JOINTS 256
 typedef struct fit_bvh fit_bvh;
 /* Parses text (len bytes, need not be NUL-terminated); name labels errors. Returns 0 or a
- * negative fit_error (FIT_ERR_PARSE: err says "NAME:LINE: what was wrong"). */
+ * negative fit_error (-FIT_ERR_PARSE: err says "NAME:LINE: what was wrong"). */
 int fit_bvh_parse(const char *text, size_t len, const char *name, fit_bvh **out, char *err,
                   size_t errlen);
 int fit_bvh_load(const char *path, fit_bvh **out, char *err, size_t errlen);

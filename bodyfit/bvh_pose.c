@@ -158,7 +158,7 @@ static void local_transform(const mocap_joint *j, const float *vals, double rot[
 int fit_bvh_world(const fit_bvh *b, int frame, float *pos, float *rot)
 {
     if (!b || !pos || frame < 0 || frame >= b->frames)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     double g[FIT_BVH_MAX_JOINTS][9], p[FIT_BVH_MAX_JOINTS][3];
     const float *vals = b->values + (size_t)frame * (size_t)b->channels;
     for (int j = 0; j < b->joint_count; ++j) {

@@ -33,7 +33,7 @@ static int fail(lexer *lx, const char *fmt, ...)
             va_end(ap);
         }
     }
-    return FIT_ERR_PARSE;
+    return -FIT_ERR_PARSE;
 }
 
 static int is_space(char c)
@@ -220,7 +220,7 @@ static int motion(lexer *lx, fit_bvh *b, size_t text_len)
     b->frame_time_s = t;
     b->values = malloc((count ? count : 1) * sizeof(float));
     if (!b->values)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     for (size_t i = 0; i < count; ++i) {
         double v;
         if ((rc = number(lx, &v, "channel value"))) {
@@ -243,11 +243,11 @@ int fit_bvh_parse(const char *text, size_t len, const char *name, fit_bvh **out,
     if (err && errlen)
         err[0] = '\0';
     if (!out || (!text && len))
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     *out = NULL;
     fit_bvh *b = calloc(1, sizeof *b);
     if (!b)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     lexer lx = {.p = text,
                 .end = text + len,
                 .name = name ? name : "bvh",
@@ -273,13 +273,13 @@ int fit_bvh_parse(const char *text, size_t len, const char *name, fit_bvh **out,
 int fit_bvh_load(const char *path, fit_bvh **out, char *err, size_t errlen)
 {
     if (!path || !out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     *out = NULL;
     FILE *f = fopen(path, "rb");
     if (!f) {
         if (err)
             snprintf(err, errlen, "%s: cannot open", path);
-        return FIT_ERR_IO;
+        return -FIT_ERR_IO;
     }
     char *text = NULL;
     long n = -1;
@@ -291,7 +291,7 @@ int fit_bvh_load(const char *path, fit_bvh **out, char *err, size_t errlen)
         free(text);
         if (err)
             snprintf(err, errlen, "%s: cannot read", path);
-        return text ? FIT_ERR_IO : FIT_ERR_NOMEM;
+        return text ? -FIT_ERR_IO : -FIT_ERR_NOMEM;
     }
     int rc = fit_bvh_parse(text, got, path, out, err, errlen);
     free(text);

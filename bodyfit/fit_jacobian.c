@@ -55,7 +55,7 @@ int fit_vertex_jacobian(const fit_model *m, const fit_pose *pose, int vertex, fl
                         double *jac)
 {
     if (!m || !pose || !jac || vertex < 0 || vertex >= m->mesh.nv)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     float skin[FIT_JOINT_COUNT][12], joints[FIT_JOINT_COUNT * 3];
     body_joint_transforms(&m->sk, pose, skin, joints);
     fit_vjac vj;

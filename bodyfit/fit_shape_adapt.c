@@ -24,7 +24,7 @@ int fit_shape_base_init(fit_shape_base *b, const fit_model *m)
     b->n = malloc((size_t)nv * 3 * sizeof(float));
     if (!b->v || !b->n) {
         fit_shape_base_free(b);
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     }
     memcpy(b->v, m->mesh.v, (size_t)nv * 3 * sizeof(float));
     int rc = fit_model_normals(m, m->mesh.v, b->n);

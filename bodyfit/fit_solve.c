@@ -382,7 +382,7 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
         body_joint_transforms(&s->m->sk, pose, f.skin, f.joints);
         fit_model_pose(s->m, pose, s->pos, NULL);
         if (fit_model_normals(s->m, s->pos, s->nrm) || grid_build(s, &f.g, f.cam))
-            return FIT_ERR_MESH;
+            return -FIT_ERR_MESH;
         double A[NP * NP], b[NP], sq = 0.0;
         memset(A, 0, sizeof A);
         memset(b, 0, sizeof b);
@@ -399,7 +399,7 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
         for (int i = 0; i < NP; ++i)
             A[i * NP + i] *= 1.0 + SOLVE_LM_DAMPING;
         if (solve_spd(A, b))
-            return FIT_ERR_NAN;
+            return -FIT_ERR_NAN;
         fit_pose_apply_step(s->m, pose, b);
         st->clamped = fit_pose_clamp(pose);
         st->iterations = it + 1;

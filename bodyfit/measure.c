@@ -154,7 +154,7 @@ int body_measure(const float *v, int nv, const int32_t *t, int nt, const body_sk
                  fit_measurements *out)
 {
     if (!v || !t || nv <= 0 || nt <= 0 || !out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     fit_shape *s = &out->shape;
     float top = v[1];
     for (int i = 1; i < nv; ++i)
@@ -179,6 +179,6 @@ int body_measure(const float *v, int nv, const int32_t *t, int nt, const body_sk
     s->leg_girth = 0.5f * (ll + lr);
     if (s->chest_girth < 0 || s->waist_girth < 0 || s->hip_girth < 0 || al < 0 || ar < 0 ||
         ll < 0 || lr < 0)
-        return FIT_ERR_MEASURE;
+        return -FIT_ERR_MEASURE;
     return 0;
 }

@@ -24,7 +24,7 @@ int body_mesh_topology(const body_mesh *m, int *euler, int *components)
 {
     int *p = malloc((size_t)m->nv * sizeof(int));
     if (!p)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     for (int i = 0; i < m->nv; ++i)
         p[i] = i;
     long edges2 = 0;
@@ -56,14 +56,14 @@ static int adjacency_build(const body_mesh *m, adjacency *a)
     a->start = calloc((size_t)m->nv + 1, sizeof(int));
     a->tri = malloc((size_t)m->nt * 3 * sizeof(int));
     if (!a->start || !a->tri)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     for (int i = 0; i < m->nt * 3; ++i)
         a->start[m->t[i] + 1]++;
     for (int i = 0; i < m->nv; ++i)
         a->start[i + 1] += a->start[i];
     int *fill = malloc((size_t)m->nv * sizeof(int));
     if (!fill)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     memcpy(fill, a->start, (size_t)m->nv * sizeof(int));
     for (int i = 0; i < m->nt * 3; ++i)
         a->tri[fill[m->t[i]]++] = i / 3;
@@ -171,7 +171,7 @@ static int compact(body_mesh *m)
 {
     int *map = malloc((size_t)m->nv * sizeof(int));
     if (!map)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     for (int i = 0; i < m->nv; ++i)
         map[i] = -1;
     int nt = 0;
@@ -226,7 +226,7 @@ static int collapse_pass(const body_field *f, body_mesh *m, int target, float ma
     adjacency adj = {0};
     edge_len *edges = malloc((size_t)m->nt * 3 * sizeof(edge_len));
     unsigned char *locked = calloc((size_t)m->nv, 1);
-    int rc = (edges && locked) ? adjacency_build(m, &adj) : FIT_ERR_NOMEM;
+    int rc = (edges && locked) ? adjacency_build(m, &adj) : -FIT_ERR_NOMEM;
     int ne = 0, done = 0;
     for (int t = 0; !rc && t < m->nt; ++t) {
         const int32_t *v = m->t + (size_t)t * 3;

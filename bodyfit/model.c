@@ -29,7 +29,7 @@ static int build_mesh(const body_field *f, float scale, int target, int finish, 
     /* A cylinder of radius r always holds grid points when r exceeds ~0.87 h; and the thighs'
      * 4.4 cm gap (skeleton.c) stays open when no grid edge (up to sqrt(3) h) spans it. */
     h = fminf(h, fminf(1.1f * f->min_radius, BODY_THIGH_GAP * scale * 0.577f));
-    int rc = FIT_ERR_MESH;
+    int rc = -FIT_ERR_MESH;
     for (int attempt = 0; attempt < 8; ++attempt) {
         if (attempt >= 2)
             h *= 0.9f; /* shifting alone did not help: sample finer */
@@ -46,7 +46,7 @@ static int build_mesh(const body_field *f, float scale, int target, int finish, 
         if (!rc && m->nv < target)
             h *= 0.85f;
         body_mesh_free(m);
-        rc = FIT_ERR_MESH;
+        rc = -FIT_ERR_MESH;
     }
     if (rc || !finish)
         return rc;
@@ -139,7 +139,7 @@ static int build_weights(fit_model *m)
     m->wjoint = malloc((size_t)nv * FIT_MAX_INFLUENCES);
     m->weight = malloc((size_t)nv * FIT_MAX_INFLUENCES * sizeof(float));
     if (!m->wjoint || !m->weight)
-        return FIT_ERR_NOMEM;
+        return -FIT_ERR_NOMEM;
     for (int i = 0; i < nv; ++i) {
         float w[FIT_JOINT_COUNT], sum = 0.0f;
         body_field_joint_weights(&m->field, m->mesh.v + (size_t)i * 3, w);
@@ -256,7 +256,7 @@ const float *fit_model_rest_joints(const fit_model *m)
 int fit_model_measure(const fit_model *m, fit_measurements *out)
 {
     if (!m || !out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     *out = m->meas;
     return 0;
 }
@@ -264,11 +264,11 @@ int fit_model_measure(const fit_model *m, fit_measurements *out)
 int fit_model_write_obj(const fit_model *m, const float *vertices, const char *path)
 {
     if (!m || !path)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     const float *v = vertices ? vertices : m->mesh.v;
     FILE *fp = fopen(path, "w");
     if (!fp)
-        return FIT_ERR_IO;
+        return -FIT_ERR_IO;
     fprintf(fp, "# tryon body model: %d vertices, %d triangles\n", m->mesh.nv, m->mesh.nt);
     for (int i = 0; i < m->mesh.nv; ++i)
         fprintf(fp, "v %.6f %.6f %.6f\n", v[i * 3], v[i * 3 + 1], v[i * 3 + 2]);
@@ -277,6 +277,6 @@ int fit_model_write_obj(const fit_model *m, const float *vertices, const char *p
                 m->mesh.t[i * 3 + 2] + 1);
     int bad = ferror(fp);
     if (fclose(fp) != 0 || bad)
-        return FIT_ERR_IO;
+        return -FIT_ERR_IO;
     return 0;
 }

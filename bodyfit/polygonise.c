@@ -31,7 +31,7 @@ static int grow(body_mesh *m, int *cap_v, int *cap_t)
         int c = *cap_v * 2 + 1024;
         float *v = realloc(m->v, (size_t)c * 3 * sizeof(float));
         if (!v)
-            return FIT_ERR_NOMEM;
+            return -FIT_ERR_NOMEM;
         m->v = v;
         *cap_v = c;
     }
@@ -39,7 +39,7 @@ static int grow(body_mesh *m, int *cap_v, int *cap_t)
         int c = *cap_t * 2 + 2048;
         int32_t *t = realloc(m->t, (size_t)c * 3 * sizeof(int32_t));
         if (!t)
-            return FIT_ERR_NOMEM;
+            return -FIT_ERR_NOMEM;
         m->t = t;
         *cap_t = c;
     }
@@ -220,7 +220,7 @@ int body_polygonise(const body_field *f, float h, const float offset[3], body_me
     size_t np = (size_t)g.nx * (size_t)g.ny * (size_t)g.nz;
     g.val = malloc(np * sizeof(float));
     g.edge_vid = malloc(np * 7 * sizeof(int32_t));
-    int rc = (g.val && g.edge_vid) ? 0 : FIT_ERR_NOMEM;
+    int rc = (g.val && g.edge_vid) ? 0 : -FIT_ERR_NOMEM;
     if (!rc) {
         for (size_t i = 0; i < np * 7; ++i)
             g.edge_vid[i] = -1;
@@ -233,7 +233,7 @@ int body_polygonise(const body_field *f, float h, const float offset[3], body_me
     free(g.val);
     free(g.edge_vid);
     if (!rc && out->nt == 0)
-        rc = FIT_ERR_MESH;
+        rc = -FIT_ERR_MESH;
     if (rc) {
         body_mesh_free(out);
         return rc;

@@ -83,7 +83,7 @@ static int map_joints(const fit_bvh *b, int src[FIT_JOINT_COUNT], char *err, siz
             if (err)
                 snprintf(err, errlen, "bvh: no joint of the clip matches the model's '%s'",
                          fit_joint_name((fit_joint)j));
-            return FIT_ERR_ARG;
+            return -FIT_ERR_ARG;
         }
     }
     return 0;
@@ -192,7 +192,7 @@ static int build_map(const fit_bvh *b, const fit_model *m, retarget_map *map, ch
     if (!(lb > 0.0)) {
         if (err)
             snprintf(err, errlen, "bvh: the clip's legs have no length");
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     }
     map->scale = fit_model_shape(m)->leg_length / lb;
     map->leg_file = lb;
@@ -392,7 +392,7 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
                       size_t errlen)
 {
     if (!b || !m || !out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     *out = NULL;
     retarget_map map;
     int rc = build_map(b, m, &map, err, errlen);
@@ -407,7 +407,7 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     double(*g)[9] = malloc(nj * sizeof *g);
     if (c)
         c->pose = malloc((size_t)n * sizeof *c->pose);
-    rc = (c && c->pose && buf && g) ? 0 : FIT_ERR_NOMEM;
+    rc = (c && c->pose && buf && g) ? 0 : -FIT_ERR_NOMEM;
     if (!rc)
         rc = clip_floor(b, &map, buf);
     double toe_lo = INFINITY;

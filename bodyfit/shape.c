@@ -73,7 +73,7 @@ int fit_shape_validate(const fit_shape *s, char *err, size_t errlen)
     if (!s) {
         if (err)
             snprintf(err, errlen, "fit shape: no shape given");
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     }
     float a[FIT_SHAPE_PARAMS];
     fit_shape_to_array(s, a);
@@ -81,13 +81,13 @@ int fit_shape_validate(const fit_shape *s, char *err, size_t errlen)
         if (!isfinite(a[i])) {
             if (err)
                 snprintf(err, errlen, "fit shape: %s is not a finite number", param_names[i]);
-            return FIT_ERR_NAN;
+            return -FIT_ERR_NAN;
         }
         if (a[i] < param_lo[i] || a[i] > param_hi[i]) {
             if (err)
                 snprintf(err, errlen, "fit shape: %s = %.3f m is outside %.2f..%.2f m",
                          param_names[i], a[i], param_lo[i], param_hi[i]);
-            return FIT_ERR_RANGE;
+            return -FIT_ERR_RANGE;
         }
     }
     return 0;

@@ -33,14 +33,23 @@ int fit_joint_parent(fit_joint j)
     return (j >= 0 && j < FIT_JOINT_COUNT) ? joint_parents[j] : -1;
 }
 
+#define FIT_ERROR_NAME(id, msg) #id,
+#define FIT_ERROR_TEXT(id, msg) msg,
+static const char *const error_names[] = {FIT_ERROR_LIST(FIT_ERROR_NAME)};
+static const char *const error_texts[] = {FIT_ERROR_LIST(FIT_ERROR_TEXT)};
+#undef FIT_ERROR_NAME
+#undef FIT_ERROR_TEXT
+
+const char *fit_error_name(int code)
+{
+    code = code < 0 ? -code : code;
+    return code < FIT_ERROR_COUNT ? error_names[code] : "FIT_ERR_UNKNOWN";
+}
+
 const char *fit_error_string(int code)
 {
-#define X(id, c, msg)                                                                              \
-    if (code == (c))                                                                               \
-        return msg;
-    FIT_ERROR_LIST(X)
-#undef X
-    return "unknown error";
+    code = code < 0 ? -code : code;
+    return code < FIT_ERROR_COUNT ? error_texts[code] : "unknown error";
 }
 
 /* Limits in the anatomical frame, radians, {x lo, y lo, z lo}, {x hi, y hi, z hi}. x is the
@@ -270,7 +279,7 @@ int body_skeleton_build(const fit_shape *s, body_skeleton *sk, char *err, size_t
                      "fit shape: leg_length %.3f m leaves a torso of %.3f m for height %.3f m "
                      "(needs %.3f..%.3f)",
                      s->leg_length, torso, s->height, 0.3f * sc, 0.7f * sc);
-        return FIT_ERR_RANGE;
+        return -FIT_ERR_RANGE;
     }
     /* Proportions the construction needs: thighs that fit side by side inside the hips, and
      * A-pose arms that clear the chest (else the slices would measure arm and torso as one). */
@@ -279,7 +288,7 @@ int body_skeleton_build(const fit_shape *s, body_skeleton *sk, char *err, size_t
             snprintf(err, errlen,
                      "fit shape: leg_girth %.3f m is more than %.2f of hip_girth %.3f m",
                      s->leg_girth, BODY_MAX_THIGH_HIP, s->hip_girth);
-        return FIT_ERR_RANGE;
+        return -FIT_ERR_RANGE;
     }
     float a_chest = s->chest_girth / (FIT_PI * body_ellipse_g(BODY_CHEST_Q));
     float r_arm = s->arm_girth / (2.0f * FIT_PI);
@@ -290,7 +299,7 @@ int body_skeleton_build(const fit_shape *s, body_skeleton *sk, char *err, size_t
                      "fit shape: chest_girth %.3f m and arm_girth %.3f m are too large for "
                      "shoulder_width %.3f m (the arms would cut into the chest)",
                      s->chest_girth, s->arm_girth, s->shoulder_width);
-        return FIT_ERR_RANGE;
+        return -FIT_ERR_RANGE;
     }
     sk->torso_len = torso;
     sk->hip_y = hip_y;

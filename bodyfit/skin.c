@@ -80,9 +80,9 @@ void body_joint_transforms(const body_skeleton *sk, const fit_pose *pose, float 
 int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out, float *joints_out)
 {
     if (!m || !pose || !vertices_out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     if (!pose_finite(pose))
-        return FIT_ERR_NAN;
+        return -FIT_ERR_NAN;
     float skin[FIT_JOINT_COUNT][12];
     body_joint_transforms(&m->sk, pose, skin, joints_out);
     const float *rest = m->mesh.v, *wt = m->weight;
@@ -106,7 +106,7 @@ int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out
 int fit_model_normals(const fit_model *m, const float *vertices, float *normals_out)
 {
     if (!m || !vertices || !normals_out)
-        return FIT_ERR_ARG;
+        return -FIT_ERR_ARG;
     int nv = m->mesh.nv;
     for (int i = 0; i < nv * 3; ++i)
         normals_out[i] = 0.0f;
@@ -127,7 +127,7 @@ int fit_model_normals(const fit_model *m, const float *vertices, float *normals_
         float *n = normals_out + (size_t)i * 3;
         float l = sqrtf(body_dot(n, n));
         if (!(l > 0.0f))
-            return FIT_ERR_MESH; /* a vertex whose faces cancel: the vertices are degenerate */
+            return -FIT_ERR_MESH; /* a vertex whose faces cancel: the vertices are degenerate */
         n[0] /= l;
         n[1] /= l;
         n[2] /= l;

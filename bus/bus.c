@@ -11,7 +11,7 @@ int bus_channel(const char *base, char *out, size_t out_size)
 {
     const char *prefix = getenv("TRYON_CHANNEL_PREFIX");
     int n = snprintf(out, out_size, "%s%s", prefix ? prefix : "", base);
-    return (n < 0 || (size_t)n >= out_size) ? -1 : 0;
+    return (n < 0 || (size_t)n >= out_size) ? -BUS_ERR_STRING : 0;
 }
 
 const char *bus_default_url(void)
@@ -64,18 +64,20 @@ int64_t bus_now_wall_us(void)
 static const char *const error_names[] = {BUS_ERROR_LIST(BUS_ERROR_NAME)};
 static const char *const error_texts[] = {BUS_ERROR_LIST(BUS_ERROR_TEXT)};
 
-const char *bus_error_name(bus_error e)
+const char *bus_error_name(int e)
 {
+    e = e < 0 ? -e : e;
     return (e >= 0 && e < BUS_ERROR_COUNT) ? error_names[e] : "BUS_ERR_UNKNOWN";
 }
 
-const char *bus_error_text(bus_error e)
+const char *bus_error_text(int e)
 {
+    e = e < 0 ? -e : e;
     return (e >= 0 && e < BUS_ERROR_COUNT) ? error_texts[e] : "unknown error";
 }
 
 /* Here beside the names, not in wire.c: wire.c calls validate.c, which reports through this. */
-bus_error bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
+int bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
 {
     if (why) {
         why->code = code;
@@ -84,5 +86,5 @@ bus_error bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
         vsnprintf(why->detail, sizeof why->detail, fmt, ap);
         va_end(ap);
     }
-    return code;
+    return -(int)code;
 }

@@ -22,7 +22,7 @@
 #define BUS_CHANNEL_TIMING  "TIMING"
 #define BUS_CHANNEL_CONTROL "CONTROL"
 #define BUS_CHANNEL_MAX     96
-/* Writes prefix + base into out. Returns 0, or -1 if it does not fit. */
+/* Writes prefix + base into out. Returns 0, or -BUS_ERR_STRING if it does not fit. */
 int bus_channel(const char *base, char *out, size_t out_size);
 
 /* The default URL: multicast that never leaves the host (ttl=0), with a kernel receive buffer
@@ -62,8 +62,9 @@ int64_t bus_now_wall_us(void);
 #define BUS_ERROR_ENUM(id, text) id,
 typedef enum bus_error { BUS_ERROR_LIST(BUS_ERROR_ENUM) BUS_ERROR_COUNT } bus_error;
 #undef BUS_ERROR_ENUM
-const char *bus_error_name(bus_error e); /* "BUS_ERR_INDEX" */
-const char *bus_error_text(bus_error e); /* "triangle index out of range" */
+/* Functions return 0 (BUS_OK) or -BUS_ERR_x (docs/building.md, "Conventions: errors"). */
+const char *bus_error_name(int e); /* "BUS_ERR_INDEX"; accepts e or -e */
+const char *bus_error_text(int e); /* "triangle index out of range" */
 
 typedef struct bus_reject {
     bus_error code;
@@ -93,11 +94,11 @@ typedef enum bus_type {
 const char *bus_type_name(bus_type t);
 size_t bus_type_size(bus_type t); /* sizeof the decoded struct */
 
-/* Check a decoded message's contents. Returns BUS_OK or the first error found. */
-bus_error bus_validate(bus_type t, const void *msg, bus_reject *why);
+/* Check a decoded message's contents. Returns BUS_OK or minus the first error found. */
+int bus_validate(bus_type t, const void *msg, bus_reject *why);
 /* Check the wire layout, then decode, then validate. msg must point at a struct of type t; on
  * success it owns memory to be released with bus_msg_free. On failure nothing needs freeing. */
-bus_error bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_reject *why);
+int bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_reject *why);
 void bus_msg_free(bus_type t, void *msg);
 /* Every message on the bus ends with a BUS_TAG_BYTES tag: keyed BLAKE2b of the channel name and
  * the payload, with the key in $TRYON_BUS_KEY_FILE, else $XDG_RUNTIME_DIR/tryon-bus.key, else
@@ -105,22 +106,21 @@ void bus_msg_free(bus_type t, void *msg);
  * without a valid tag (another machine's, or anyone's without the key) are refused as
  * BUS_ERR_AUTH. bus_open loads the key; lcm-logger logs keep the tags, replays verify them. */
 #define BUS_TAG_BYTES 32
-int bus_key_load(char *err, size_t err_size); /* 0, or -1 with the reason in err */
+int bus_key_load(char *err, size_t err_size); /* 0, or -BUS_ERR_AUTH with the reason in err */
 const char *bus_key_path(void);
 /* Writes the tag of buf[0..len) on channel at buf[len] (room for BUS_TAG_BYTES needed). */
-bus_error bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why);
+int bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why);
 /* Checks the tag at the end of buf; *payload_len = len - BUS_TAG_BYTES on success. */
-bus_error bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t *payload_len,
-                     bus_reject *why);
+int bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t *payload_len,
+               bus_reject *why);
 /* Unseal, then bus_decode: what a subscriber or a log reader does with one event. */
-bus_error bus_decode_sealed(bus_type t, const char *channel, const void *buf, size_t len, void *msg,
-                            bus_reject *why);
-/* Seals and sends payload bytes as they are (tests, tools that forward encoded messages). */
-bus_error bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, size_t len,
-                          bus_reject *why);
-/* Validate, then publish. A message that fails validation is not sent. */
-bus_error bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *msg,
+int bus_decode_sealed(bus_type t, const char *channel, const void *buf, size_t len, void *msg,
                       bus_reject *why);
+/* Seals and sends payload bytes as they are (tests, tools that forward encoded messages). */
+int bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, size_t len,
+                    bus_reject *why);
+/* Validate, then publish. A message that fails validation is not sent. */
+int bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *msg, bus_reject *why);
 
 /* Subscriptions that decode and validate before the handler sees anything. Rejected messages are
  * counted, reported on stderr (the first few, then every hundredth) and dropped. */
@@ -152,6 +152,6 @@ void bus_timing_begin(bus_timing *t, const char *stage, int32_t seq, int64_t uti
                       int64_t utime_received);
 void bus_timing_add(bus_timing *t, const char *substage, float ms); /* ignored past the max */
 /* Stamps utime_finished now and publishes on the TIMING channel (prefixed). */
-bus_error bus_timing_publish(lcm_t *lcm, const bus_timing *t);
+int bus_timing_publish(lcm_t *lcm, const bus_timing *t);
 
 #endif

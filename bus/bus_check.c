@@ -46,7 +46,7 @@ static int seal_cost(void)
         buf[i] = (uint8_t)(i * 2654435761u >> 13);
     for (int r = 0; r < RUNS; r++) {
         int64_t t0 = bus_now_mono_us();
-        bus_error e = bus_seal("DEPTH", buf, BYTES, &why);
+        int e = bus_seal("DEPTH", buf, BYTES, &why);
         int64_t t1 = bus_now_mono_us();
         size_t n;
         e = e != BUS_OK ? e : bus_unseal("DEPTH", buf, sizeof buf, &n, &why);

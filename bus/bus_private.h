@@ -17,10 +17,10 @@
 /* Walk the encoded bytes of type t without allocating: every count must be sane and every
  * array must fit in the buffer before lcm's generated decoder (which allocates whatever a count
  * says, then checks) is allowed to see it. */
-bus_error bus_wire_check(bus_type t, const uint8_t *buf, size_t len, bus_reject *why);
+int bus_wire_check(bus_type t, const uint8_t *buf, size_t len, bus_reject *why);
 
-/* Sets why (may be NULL) and returns code. */
-bus_error bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
+/* Sets why (may be NULL) and returns -code. */
+int bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
 #endif

@@ -126,7 +126,7 @@ int bus_profile_add(bus_profile *p, const tryon_timing_t *t)
 {
     stage_samples *s = find_stage(p, t->stage);
     if (!s || reserve_samples(s) != 0)
-        return -1;
+        return -BUS_ERR_NO_MEMORY;
     s->work_ms[s->n] = (double)(t->utime_finished - t->utime_started) / 1000.0;
     s->lat_ms[s->n] = (double)(t->utime_finished - t->utime_capture) / 1000.0;
     s->seq[s->n] = t->seq;
@@ -137,7 +137,7 @@ int bus_profile_add(bus_profile *p, const tryon_timing_t *t)
     s->n++;
     for (int i = 0; i < t->num_substages; i++)
         if (add_substage(s, t->substage[i], t->substage_ms[i]) != 0)
-            return -1;
+            return -BUS_ERR_NO_MEMORY;
     return 0;
 }
 

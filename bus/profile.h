@@ -26,7 +26,8 @@ typedef struct bus_stage_stats {
 typedef struct bus_profile bus_profile;
 bus_profile *bus_profile_create(void);
 void bus_profile_destroy(bus_profile *p);
-/* Adds one report. Returns 0, or -1 when out of memory or the stage table is full. */
+/* Adds one report. Returns 0, or -BUS_ERR_NO_MEMORY when out of memory or the stage table is
+ * full. */
 int bus_profile_add(bus_profile *p, const tryon_timing_t *t);
 /* Fills out[] (at most max) in pipeline order: capture, bodyfit, sim, mirror, then others by
  * name. Returns the number of stages. */

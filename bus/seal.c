@@ -102,14 +102,14 @@ int bus_key_load(char *err, size_t err_size)
         return 0;
     if (sodium_init() < 0) {
         snprintf(err, err_size, "libsodium failed to initialise");
-        return -1;
+        return -BUS_ERR_AUTH;
     }
     if (choose_path(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     if (access(key_path, F_OK) != 0 && create_key(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     if (read_key(err, err_size) != 0)
-        return -1;
+        return -BUS_ERR_AUTH;
     key_loaded = 1;
     return 0;
 }
@@ -130,7 +130,7 @@ static void tag_of(const char *channel, const uint8_t *payload, size_t len,
     crypto_generichash_final(&st, tag, BUS_TAG_BYTES);
 }
 
-bus_error bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why)
+int bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *why)
 {
     char err[600];
     if (bus_key_load(err, sizeof err) != 0)
@@ -139,8 +139,8 @@ bus_error bus_seal(const char *channel, uint8_t *buf, size_t len, bus_reject *wh
     return BUS_OK;
 }
 
-bus_error bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t *payload_len,
-                     bus_reject *why)
+int bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t *payload_len,
+               bus_reject *why)
 {
     char err[600];
     if (bus_key_load(err, sizeof err) != 0)
@@ -156,8 +156,8 @@ bus_error bus_unseal(const char *channel, const uint8_t *buf, size_t len, size_t
     return BUS_OK;
 }
 
-bus_error bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, size_t len,
-                          bus_reject *why)
+int bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, size_t len,
+                    bus_reject *why)
 {
     if (len > (size_t)INT32_MAX - BUS_TAG_BYTES)
         return bus_reject_set(why, BUS_ERR_COUNT, "%zu bytes", len);
@@ -166,7 +166,7 @@ bus_error bus_publish_raw(lcm_t *lcm, const char *channel, const void *payload, 
         return bus_reject_set(why, BUS_ERR_NO_MEMORY, "%zu bytes", len);
     if (len)
         memcpy(buf, payload, len);
-    bus_error e = bus_seal(channel, buf, len, why);
+    int e = bus_seal(channel, buf, len, why);
     if (e == BUS_OK && lcm_publish(lcm, channel, buf, (unsigned)(len + BUS_TAG_BYTES)) != 0)
         e = bus_reject_set(why, BUS_ERR_PUBLISH, "%zu bytes on %s", len, channel);
     free(buf);

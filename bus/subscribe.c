@@ -32,10 +32,10 @@ static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
     bus_sub *s = user;
     bus_any_msg msg;
     bus_reject why = {0};
-    bus_error e = bus_decode_sealed(s->type, channel, rbuf->data, rbuf->data_size, &msg, &why);
+    int e = bus_decode_sealed(s->type, channel, rbuf->data, rbuf->data_size, &msg, &why);
     if (e != BUS_OK) {
         s->stats.rejected++;
-        s->stats.rejected_by[e]++;
+        s->stats.rejected_by[-e]++;
         s->stats.last = why;
         uint64_t n = s->stats.rejected;
         if (!s->quiet && (n <= BUS_REPORT_FIRST || n % BUS_REPORT_EVERY == 0))

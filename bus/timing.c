@@ -24,7 +24,7 @@ void bus_timing_add(bus_timing *t, const char *substage, float ms)
     t->num_substages++;
 }
 
-bus_error bus_timing_publish(lcm_t *lcm, const bus_timing *t)
+int bus_timing_publish(lcm_t *lcm, const bus_timing *t)
 {
     char channel[BUS_CHANNEL_MAX];
     char *names[BUS_MAX_SUBSTAGES];
@@ -45,7 +45,7 @@ bus_error bus_timing_publish(lcm_t *lcm, const bus_timing *t)
         .substage_ms = ms,
     };
     if (bus_channel(BUS_CHANNEL_TIMING, channel, sizeof channel) != 0)
-        return BUS_ERR_STRING;
+        return -BUS_ERR_STRING;
     bus_reject why;
     return bus_publish(lcm, channel, BUS_TIMING, &msg, &why);
 }

@@ -5,8 +5,8 @@
 #include <string.h>
 
 /* Every float must be finite; coordinates also within BUS_MAX_COORD_M of the origin. */
-static bus_error check_floats(const float *v, int64_t n, float limit, const char *name, int stride,
-                              bus_reject *why)
+static int check_floats(const float *v, int64_t n, float limit, const char *name, int stride,
+                        bus_reject *why)
 {
     for (int64_t i = 0; i < n; i++) {
         if (!isfinite(v[i]))
@@ -20,7 +20,7 @@ static bus_error check_floats(const float *v, int64_t n, float limit, const char
     return BUS_OK;
 }
 
-static bus_error check_count(int32_t n, int64_t max, const char *name, bus_reject *why)
+static int check_count(int32_t n, int64_t max, const char *name, bus_reject *why)
 {
     if (n < 0 || n > max)
         return bus_reject_set(why, BUS_ERR_COUNT, "%s = %d (0..%lld)", name, (int)n,
@@ -29,7 +29,7 @@ static bus_error check_count(int32_t n, int64_t max, const char *name, bus_rejec
 }
 
 /* A count of flat xyz coordinates or triangle corners: a multiple of 3 within its limit. */
-static bus_error check_triples(int32_t n, int64_t max_triples, const char *name, bus_reject *why)
+static int check_triples(int32_t n, int64_t max_triples, const char *name, bus_reject *why)
 {
     if (n < 0 || n > 3 * max_triples || n % 3 != 0)
         return bus_reject_set(why, BUS_ERR_COUNT, "%s = %d (a multiple of 3, 0..%lld)", name,
@@ -37,10 +37,10 @@ static bus_error check_triples(int32_t n, int64_t max_triples, const char *name,
     return BUS_OK;
 }
 
-static bus_error check_mesh(int32_t ncoords, const float *v, int32_t nindices, const int32_t *t,
-                            bus_reject *why)
+static int check_mesh(int32_t ncoords, const float *v, int32_t nindices, const int32_t *t,
+                      bus_reject *why)
 {
-    bus_error e = check_triples(ncoords, BUS_MAX_VERTICES, "num_vertex_coords", why);
+    int e = check_triples(ncoords, BUS_MAX_VERTICES, "num_vertex_coords", why);
     if (e == BUS_OK)
         e = check_triples(nindices, BUS_MAX_TRIANGLES, "num_triangle_indices", why);
     if (e == BUS_OK)
@@ -55,7 +55,7 @@ static bus_error check_mesh(int32_t ncoords, const float *v, int32_t nindices, c
     return BUS_OK;
 }
 
-static bus_error check_string(const char *s, const char *name, bus_reject *why)
+static int check_string(const char *s, const char *name, bus_reject *why)
 {
     if (!s || strnlen(s, BUS_MAX_STRING) >= BUS_MAX_STRING)
         return bus_reject_set(why, BUS_ERR_STRING, "%s missing or longer than %d", name,
@@ -63,9 +63,9 @@ static bus_error check_string(const char *s, const char *name, bus_reject *why)
     return BUS_OK;
 }
 
-static bus_error validate_depth_frame(const tryon_depth_frame_t *m, bus_reject *why)
+static int validate_depth_frame(const tryon_depth_frame_t *m, bus_reject *why)
 {
-    bus_error se = check_string(m->source, "source", why);
+    int se = check_string(m->source, "source", why);
     if (se != BUS_OK)
         return se;
     if (m->width < 1 || m->width > BUS_MAX_IMAGE_SIDE || m->height < 1 ||
@@ -79,7 +79,7 @@ static bus_error validate_depth_frame(const tryon_depth_frame_t *m, bus_reject *
         return bus_reject_set(why, BUS_ERR_DATA_SIZE, "num_bytes %d, %d x %d x 2 = %lld",
                               (int)m->num_bytes, (int)m->width, (int)m->height, (long long)expect);
     const float intr[5] = {m->fx, m->fy, m->cx, m->cy, m->metres_per_unit};
-    bus_error e = check_floats(intr, 5, 0, "fx,fy,cx,cy,metres_per_unit", 5, why);
+    int e = check_floats(intr, 5, 0, "fx,fy,cx,cy,metres_per_unit", 5, why);
     if (e == BUS_OK)
         e = check_floats(m->camera_to_world, 16, BUS_MAX_COORD_M, "camera_to_world", 16, why);
     if (e != BUS_OK)
@@ -90,11 +90,11 @@ static bus_error validate_depth_frame(const tryon_depth_frame_t *m, bus_reject *
     return BUS_OK;
 }
 
-static bus_error validate_body(const tryon_body_t *m, bus_reject *why)
+static int validate_body(const tryon_body_t *m, bus_reject *why)
 {
     if (m->state < TRYON_BODY_T_STATE_INIT || m->state > TRYON_BODY_T_STATE_LOST)
         return bus_reject_set(why, BUS_ERR_RANGE, "state %d", (int)m->state);
-    bus_error e = check_count(m->num_shape, BUS_MAX_PARAMS, "num_shape", why);
+    int e = check_count(m->num_shape, BUS_MAX_PARAMS, "num_shape", why);
     if (e == BUS_OK)
         e = check_count(m->num_pose, BUS_MAX_PARAMS, "num_pose", why);
     if (e == BUS_OK)
@@ -113,15 +113,15 @@ static bus_error validate_body(const tryon_body_t *m, bus_reject *why)
                       why);
 }
 
-static bus_error validate_cloth(const tryon_cloth_t *m, bus_reject *why)
+static int validate_cloth(const tryon_cloth_t *m, bus_reject *why)
 {
-    bus_error se = check_string(m->garment_id, "garment_id", why);
+    int se = check_string(m->garment_id, "garment_id", why);
     if (se != BUS_OK)
         return se;
     if (m->state < TRYON_CLOTH_T_STATE_OK || m->state > TRYON_CLOTH_T_STATE_SETTLING)
         return bus_reject_set(why, BUS_ERR_RANGE, "state %d", (int)m->state);
     const float f[3] = {m->max_strain, m->p99_strain, m->max_pen_mm};
-    bus_error e = check_floats(f, 3, 0, "max_strain,p99_strain,max_pen_mm", 3, why);
+    int e = check_floats(f, 3, 0, "max_strain,p99_strain,max_pen_mm", 3, why);
     if (e != BUS_OK)
         return e;
     if (m->penetrating < 0 || m->penetrating > m->num_vertex_coords / 3)
@@ -131,14 +131,14 @@ static bus_error validate_cloth(const tryon_cloth_t *m, bus_reject *why)
                       why);
 }
 
-static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)
+static int validate_timing(const tryon_timing_t *m, bus_reject *why)
 {
-    bus_error se = check_string(m->stage, "stage", why);
+    int se = check_string(m->stage, "stage", why);
     if (se != BUS_OK)
         return se;
     if (m->stage[0] == 0)
         return bus_reject_set(why, BUS_ERR_STRING, "stage is empty");
-    bus_error e = check_count(m->num_substages, BUS_MAX_SUBSTAGES, "num_substages", why);
+    int e = check_count(m->num_substages, BUS_MAX_SUBSTAGES, "num_substages", why);
     if (e != BUS_OK)
         return e;
     for (int i = 0; i < m->num_substages; i++) {
@@ -161,9 +161,9 @@ static bus_error validate_timing(const tryon_timing_t *m, bus_reject *why)
     return BUS_OK;
 }
 
-static bus_error validate_control(const tryon_control_t *m, bus_reject *why)
+static int validate_control(const tryon_control_t *m, bus_reject *why)
 {
-    bus_error e = check_string(m->garment, "garment", why);
+    int e = check_string(m->garment, "garment", why);
     if (e == BUS_OK)
         e = check_string(m->fabric, "fabric", why);
     if (e != BUS_OK)
@@ -180,7 +180,7 @@ static bus_error validate_control(const tryon_control_t *m, bus_reject *why)
     return BUS_OK;
 }
 
-bus_error bus_validate(bus_type t, const void *msg, bus_reject *why)
+int bus_validate(bus_type t, const void *msg, bus_reject *why)
 {
     if (why)
         *why = (bus_reject){.code = BUS_OK};

@@ -98,8 +98,8 @@ static uint64_t read_u64(const uint8_t *p)
 }
 
 /* Checks one string at *pos; advances *pos past it. */
-static bus_error wire_string(const uint8_t *buf, size_t len, size_t *pos, const char *name,
-                             bus_reject *why)
+static int wire_string(const uint8_t *buf, size_t len, size_t *pos, const char *name,
+                       bus_reject *why)
 {
     if (len - *pos < 4)
         return bus_reject_set(why, BUS_ERR_TRUNCATED, "%s: length missing", name);
@@ -135,7 +135,7 @@ static size_t fixed_size(enum wire_op op)
     }
 }
 
-static bus_error wire_walk(const wire_field *f, const uint8_t *buf, size_t len, bus_reject *why)
+static int wire_walk(const wire_field *f, const uint8_t *buf, size_t len, bus_reject *why)
 {
     int64_t count[8] = {0};
     size_t pos = 8; /* past the fingerprint */
@@ -163,7 +163,7 @@ static bus_error wire_walk(const wire_field *f, const uint8_t *buf, size_t len, 
         } else if (f->op == W_STR || f->op == W_STR_ARRAY) {
             int64_t n = f->op == W_STR ? 1 : count[f->slot];
             for (int64_t i = 0; i < n; i++) {
-                bus_error e = wire_string(buf, len, &pos, f->name, why);
+                int e = wire_string(buf, len, &pos, f->name, why);
                 if (e != BUS_OK)
                     return e;
             }
@@ -240,7 +240,7 @@ size_t bus_type_size(bus_type t)
     return ti ? ti->size : 0;
 }
 
-bus_error bus_wire_check(bus_type t, const uint8_t *buf, size_t len, bus_reject *why)
+int bus_wire_check(bus_type t, const uint8_t *buf, size_t len, bus_reject *why)
 {
     const bus_type_info *ti = info(t);
     if (!ti)
@@ -255,9 +255,9 @@ bus_error bus_wire_check(bus_type t, const uint8_t *buf, size_t len, bus_reject 
     return wire_walk(ti->wire, buf, len, why);
 }
 
-bus_error bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_reject *why)
+int bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_reject *why)
 {
-    bus_error e = bus_wire_check(t, buf, len, why);
+    int e = bus_wire_check(t, buf, len, why);
     if (e != BUS_OK)
         return e;
     const bus_type_info *ti = info(t);
@@ -274,11 +274,11 @@ bus_error bus_decode(bus_type t, const void *buf, size_t len, void *msg, bus_rej
     return e;
 }
 
-bus_error bus_decode_sealed(bus_type t, const char *channel, const void *buf, size_t len, void *msg,
-                            bus_reject *why)
+int bus_decode_sealed(bus_type t, const char *channel, const void *buf, size_t len, void *msg,
+                      bus_reject *why)
 {
     size_t n;
-    bus_error e = bus_unseal(channel, buf, len, &n, why);
+    int e = bus_unseal(channel, buf, len, &n, why);
     return e != BUS_OK ? e : bus_decode(t, buf, n, msg, why);
 }
 
@@ -289,9 +289,9 @@ void bus_msg_free(bus_type t, void *msg)
         ti->free(msg);
 }
 
-bus_error bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *msg, bus_reject *why)
+int bus_publish(lcm_t *lcm, const char *channel, bus_type t, const void *msg, bus_reject *why)
 {
-    bus_error e = bus_validate(t, msg, why);
+    int e = bus_validate(t, msg, why);
     if (e != BUS_OK)
         return e;
     /* Encoded here rather than by lcm-gen's publish so that the tag goes after the payload. */

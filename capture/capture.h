@@ -29,8 +29,10 @@
 #define CAP_ERROR_ENUM(id, text) id,
 typedef enum cap_error { CAP_ERROR_LIST(CAP_ERROR_ENUM) CAP_ERROR_COUNT } cap_error;
 #undef CAP_ERROR_ENUM
-const char *cap_error_name(cap_error e);
-const char *cap_error_text(cap_error e);
+/* Functions return 0 (CAP_OK), CAP_END (a result, not an error) or -CAP_ERR_x
+ * (docs/building.md, "Conventions: errors"). */
+const char *cap_error_name(int e); /* accepts e or -e */
+const char *cap_error_text(int e);
 
 /* One depth frame as a source delivers it. Pointers stay valid until the next call. */
 typedef struct cap_frame {
@@ -54,9 +56,9 @@ typedef struct cap_source_desc {
 /* The provider table every source fills (STYLE.md: LCM's lcm_provider_t). */
 typedef struct cap_source_api {
     const char *name;
-    cap_error (*open)(cap_source *s, const cap_source_desc *d, char *err, size_t errlen);
-    /* CAP_OK with a frame, CAP_END at the end of a recording, or an error. */
-    cap_error (*next)(cap_source *s, cap_frame *out, char *err, size_t errlen);
+    int (*open)(cap_source *s, const cap_source_desc *d, char *err, size_t errlen);
+    /* CAP_OK with a frame, CAP_END at the end of a recording, or -CAP_ERR_x. */
+    int (*next)(cap_source *s, cap_frame *out, char *err, size_t errlen);
     void (*close)(cap_source *s);
 } cap_source_api;
 
@@ -67,9 +69,9 @@ struct cap_source {
 
 const cap_source_api *cap_source_find(const char *name); /* NULL if unknown */
 const char *cap_source_name(int i);                      /* NULL past the end */
-cap_source *cap_source_create(const char *name, const cap_source_desc *d, cap_error *code,
-                              char *err, size_t errlen);
-cap_error cap_source_next(cap_source *s, cap_frame *out, char *err, size_t errlen);
+cap_source *cap_source_create(const char *name, const cap_source_desc *d, int *code, char *err,
+                              size_t errlen);
+int cap_source_next(cap_source *s, cap_frame *out, char *err, size_t errlen);
 void cap_source_destroy(cap_source *s);
 
 /* Fakenect staging. Debian's fakenect sleeps between frames by their record times and exits the
@@ -78,8 +80,8 @@ void cap_source_destroy(cap_source *s);
  * times are all zero: fakenect then never sleeps and cap_pacer paces by the original times. */
 #define CAP_ENV_STAGED "TRYON_FAKENECT_STAGED" /* set in the re-executed capture process */
 #define CAP_ENV_LIBDIR "TRYON_FAKENECT_LIBDIR" /* overrides the fakenect library directory */
-cap_error cap_fakenect_stage(const char *dump_dir, char *staged, size_t staged_size, char *err,
-                             size_t errlen);
+int cap_fakenect_stage(const char *dump_dir, char *staged, size_t staged_size, char *err,
+                       size_t errlen);
 void cap_fakenect_unstage(const char *staged);
 const char *cap_fakenect_libdir(void);
 int cap_uri_is_dump(const char *uri); /* a directory holding INDEX.txt or meant to */
@@ -90,7 +92,7 @@ typedef struct cap_rate {
     cap_rate_mode mode;
     double fps;
 } cap_rate;
-int cap_rate_parse(const char *s, cap_rate *out); /* "realtime", "max" or a number; 0 = ok */
+int cap_rate_parse(const char *s, cap_rate *out); /* "realtime", "max" or fps; 0 or -CAP_ERR_ARG */
 
 typedef struct cap_pacer {
     cap_rate rate;
@@ -124,8 +126,8 @@ typedef struct cap_run_stats {
     double lag_p95_ms;
     double lag_max_ms;
 } cap_run_stats;
-cap_error cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_stats *stats,
-                  char *err, size_t errlen);
+int cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_stats *stats, char *err,
+            size_t errlen);
 
 /* The default camera pose: a Kinect 1.0 m above the floor, 2.5 m in front of the person, level,
  * looking along world -z (the same as tryon-synth's). */

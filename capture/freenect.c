@@ -51,11 +51,11 @@ static int library_is_fakenect(void)
     return dladdr(sym, &info) && info.dli_fname && strstr(info.dli_fname, "fakenect");
 }
 
-static cap_error fn_open(cap_source *src, const cap_source_desc *d, char *err, size_t errlen)
+static int fn_open(cap_source *src, const cap_source_desc *d, char *err, size_t errlen)
 {
     fn_state *s = calloc(1, sizeof *s);
     if (!s)
-        return CAP_ERR_NO_MEMORY;
+        return -CAP_ERR_NO_MEMORY;
     src->impl = s;
     s->timeout_ms = d->timeout_ms > 0 ? d->timeout_ms : 2000;
     rec_raw_to_mm_table(s->table);
@@ -65,24 +65,24 @@ static cap_error fn_open(cap_source *src, const cap_source_desc *d, char *err, s
         if (!library_is_fakenect() || !getenv("FAKENECT_PATH")) {
             snprintf(err, errlen, "%s is a dump, but this process runs the real libfreenect",
                      d->uri);
-            return CAP_ERR_NOT_FAKENECT;
+            return -CAP_ERR_NOT_FAKENECT;
         }
         rec_report why;
         if (rec_index_read(d->uri, &s->index, &why) != REC_OK) {
             snprintf(err, errlen, "%s", why.message);
-            return CAP_ERR_RECORDING;
+            return -CAP_ERR_RECORDING;
         }
     } else if (d->uri && *d->uri) {
         char *end;
         index = (int)strtol(d->uri, &end, 10);
         if (*end || index < 0) {
             snprintf(err, errlen, "'%s' is neither a device index nor a dump directory", d->uri);
-            return CAP_ERR_ARG;
+            return -CAP_ERR_ARG;
         }
     }
     if (freenect_init(&s->ctx, NULL) < 0) {
         snprintf(err, errlen, "freenect_init failed");
-        return CAP_ERR_DEVICE;
+        return -CAP_ERR_DEVICE;
     }
     freenect_set_log_level(s->ctx, FREENECT_LOG_ERROR);
     freenect_select_subdevices(s->ctx, FREENECT_DEVICE_CAMERA);
@@ -90,12 +90,12 @@ static cap_error fn_open(cap_source *src, const cap_source_desc *d, char *err, s
     if (n <= index) {
         snprintf(err, errlen, "Kinect %d requested, %d found (is it plugged in and powered?)",
                  index, n < 0 ? 0 : n);
-        return CAP_ERR_NO_DEVICE;
+        return -CAP_ERR_NO_DEVICE;
     }
     if (freenect_open_device(s->ctx, &s->dev, index) < 0) {
         snprintf(err, errlen, "cannot open Kinect %d (permissions? see docs/capture.md)", index);
         s->dev = NULL;
-        return CAP_ERR_DEVICE;
+        return -CAP_ERR_DEVICE;
     }
     freenect_set_user(s->dev, s);
     freenect_set_depth_callback(s->dev, depth_cb);
@@ -104,13 +104,13 @@ static cap_error fn_open(cap_source *src, const cap_source_desc *d, char *err, s
     if (freenect_set_depth_mode(s->dev, mode) < 0 ||
         freenect_set_depth_buffer(s->dev, s->raw) < 0 || freenect_start_depth(s->dev) < 0) {
         snprintf(err, errlen, "cannot start the depth stream (11-bit, 640x480)");
-        return CAP_ERR_DEVICE;
+        return -CAP_ERR_DEVICE;
     }
     s->started = 1;
     return CAP_OK;
 }
 
-static cap_error fn_wait(fn_state *s, char *err, size_t errlen)
+static int fn_wait(fn_state *s, char *err, size_t errlen)
 {
     int64_t deadline = bus_now_mono_us() + (int64_t)s->timeout_ms * 1000;
     s->got = 0;
@@ -129,20 +129,20 @@ static cap_error fn_wait(fn_state *s, char *err, size_t errlen)
         r = freenect_process_events_timeout(s->ctx, &tv);
         if (r < 0) {
             snprintf(err, errlen, "freenect_process_events failed (%d): camera unplugged?", r);
-            return CAP_ERR_DEVICE;
+            return -CAP_ERR_DEVICE;
         }
         if (!s->got && bus_now_mono_us() > deadline) {
             snprintf(err, errlen, "no depth frame from the Kinect in %d ms", s->timeout_ms);
-            return CAP_ERR_TIMEOUT;
+            return -CAP_ERR_TIMEOUT;
         }
     }
     return CAP_OK;
 }
 
-static cap_error fn_next(cap_source *src, cap_frame *out, char *err, size_t errlen)
+static int fn_next(cap_source *src, cap_frame *out, char *err, size_t errlen)
 {
     fn_state *s = src->impl;
-    cap_error e = fn_wait(s, err, errlen);
+    int e = fn_wait(s, err, errlen);
     if (e != CAP_OK)
         return e;
     for (int i = 0; i < PIXELS; i++) {

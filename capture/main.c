@@ -160,7 +160,7 @@ int main(int argc, char **argv)
     }
     o.run.lcm = lcm;
     cap_run_stats st;
-    cap_error e = cap_run(&o.run, &stop_flag, &st, err, sizeof err);
+    int e = cap_run(&o.run, &stop_flag, &st, err, sizeof err);
     lcm_destroy(lcm);
     cap_fakenect_unstage(staged);
     double fps = st.seconds > 0.0 ? (st.frames - 1) / st.seconds : 0.0;
@@ -176,7 +176,7 @@ int main(int argc, char **argv)
                st.frames, st.seconds, fps, st.lag_p50_ms, st.lag_p95_ms, st.lag_max_ms);
     if (e != CAP_OK) {
         fprintf(stderr, "tryon-capture: %s: %s [%s]\n", cap_error_text(e), err, cap_error_name(e));
-        return e == CAP_ERR_RECORDING ? 3 : 1;
+        return e == -CAP_ERR_RECORDING ? 3 : 1;
     }
     return 0;
 }

@@ -38,8 +38,7 @@ static int is_oni_file(const char *uri)
     return n > 4 && !strcmp(uri + n - 4, ".oni") && stat(uri, &st) == 0 && S_ISREG(st.st_mode);
 }
 
-static cap_error oni_fail(char *err, size_t errlen, cap_error code, const char *what,
-                          const char *uri)
+static int oni_fail(char *err, size_t errlen, cap_error code, const char *what, const char *uri)
 {
     /* OpenNI's extended error comes with tabs and newlines: keep it on one line. */
     char detail[256];
@@ -54,21 +53,21 @@ static cap_error oni_fail(char *err, size_t errlen, cap_error code, const char *
     while (n > 0 && d[n - 1] == ' ')
         n--;
     snprintf(err, errlen, "%s%s%s: %.*s", what, uri ? " " : "", uri ? uri : "", (int)n, d);
-    return code;
+    return -(int)code;
 }
 
-static cap_error oni_open(cap_source *src, const cap_source_desc *d, char *err, size_t errlen)
+static int oni_open(cap_source *src, const cap_source_desc *d, char *err, size_t errlen)
 {
     oni_state *s = calloc(1, sizeof *s);
     if (!s)
-        return CAP_ERR_NO_MEMORY;
+        return -CAP_ERR_NO_MEMORY;
     src->impl = s;
     s->timeout_ms = d->timeout_ms > 0 ? d->timeout_ms : 2000;
     const char *uri = d->uri && *d->uri ? d->uri : NULL;
     size_t n = uri ? strlen(uri) : 0;
     if (n > 4 && !strcmp(uri + n - 4, ".oni") && !is_oni_file(uri)) {
         snprintf(err, errlen, "%s: no such recording (not a readable .oni file)", uri);
-        return CAP_ERR_RECORDING;
+        return -CAP_ERR_RECORDING;
     }
     s->file = is_oni_file(uri);
     if (oniInitialize(ONI_API_VERSION) != ONI_STATUS_OK)
@@ -108,19 +107,19 @@ static cap_error oni_open(cap_source *src, const cap_source_desc *d, char *err, 
 }
 
 /* The frame buffer follows the stream's resolution; it changes only when the mode does. */
-static cap_error oni_buffer(oni_state *s, int w, int h, char *err, size_t errlen)
+static int oni_buffer(oni_state *s, int w, int h, char *err, size_t errlen)
 {
     if (w == s->width && h == s->height && s->mm)
         return CAP_OK;
     if (w <= 0 || h <= 0 || w > 4096 || h > 4096) {
         snprintf(err, errlen, "OpenNI2 frame of %dx%d pixels", w, h);
-        return CAP_ERR_DEVICE;
+        return -CAP_ERR_DEVICE;
     }
     free(s->mm);
     s->mm = malloc(sizeof(uint16_t) * (size_t)w * (size_t)h);
     s->width = w;
     s->height = h;
-    return s->mm ? CAP_OK : CAP_ERR_NO_MEMORY;
+    return s->mm ? CAP_OK : -CAP_ERR_NO_MEMORY;
 }
 
 static void oni_convert(oni_state *s, const OniFrame *f)
@@ -133,7 +132,7 @@ static void oni_convert(oni_state *s, const OniFrame *f)
     }
 }
 
-static cap_error oni_next(cap_source *src, cap_frame *out, char *err, size_t errlen)
+static int oni_next(cap_source *src, cap_frame *out, char *err, size_t errlen)
 {
     oni_state *s = src->impl;
     int which = 0;
@@ -143,21 +142,21 @@ static cap_error oni_next(cap_source *src, cap_frame *out, char *err, size_t err
         if (s->file)
             return CAP_END;
         snprintf(err, errlen, "no depth frame from the OpenNI2 device in %d ms", s->timeout_ms);
-        return CAP_ERR_TIMEOUT;
+        return -CAP_ERR_TIMEOUT;
     }
     OniFrame *f = NULL;
     if (st != ONI_STATUS_OK || oniStreamReadFrame(s->stream, &f) != ONI_STATUS_OK || !f)
         return oni_fail(err, errlen, CAP_ERR_DEVICE, "reading a depth frame failed", NULL);
     int64_t utime = bus_now_wall_us();
-    cap_error e = CAP_OK;
+    int e = CAP_OK;
     if (f->videoMode.pixelFormat != ONI_PIXEL_FORMAT_DEPTH_1_MM &&
         f->videoMode.pixelFormat != ONI_PIXEL_FORMAT_DEPTH_100_UM) {
         snprintf(err, errlen, "OpenNI2 depth pixel format %d is not millimetres",
                  (int)f->videoMode.pixelFormat);
-        e = CAP_ERR_DEVICE;
+        e = -CAP_ERR_DEVICE;
     } else if (f->stride < f->width * 2) {
         snprintf(err, errlen, "OpenNI2 frame stride %d < width %d x 2", f->stride, f->width);
-        e = CAP_ERR_DEVICE;
+        e = -CAP_ERR_DEVICE;
     } else {
         e = oni_buffer(s, f->width, f->height, err, errlen);
     }

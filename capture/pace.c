@@ -11,7 +11,7 @@
 int cap_rate_parse(const char *s, cap_rate *out)
 {
     if (!s)
-        return -1;
+        return -CAP_ERR_ARG;
     if (!strcmp(s, "realtime")) {
         *out = (cap_rate){CAP_RATE_REALTIME, 0.0};
         return 0;
@@ -23,7 +23,7 @@ int cap_rate_parse(const char *s, cap_rate *out)
     char *end;
     double fps = strtod(s, &end);
     if (end == s || *end || !(fps > 0.0) || fps > 10000.0)
-        return -1;
+        return -CAP_ERR_ARG;
     *out = (cap_rate){CAP_RATE_FPS, fps};
     return 0;
 }

@@ -44,13 +44,13 @@ static double percentile(float *v, int n, double p)
     return v[i < 0 ? 0 : i >= n ? n - 1 : i];
 }
 
-static cap_error run_record(run_state *r, const cap_frame *f, int64_t first_utime, char *err,
-                            size_t errlen)
+static int run_record(run_state *r, const cap_frame *f, int64_t first_utime, char *err,
+                      size_t errlen)
 {
     if (f->width != REC_WIDTH || f->height != REC_HEIGHT) {
         snprintf(err, errlen, "--record writes 640x480 fakenect dumps; frame %d is %dx%d", f->seq,
                  f->width, f->height);
-        return CAP_ERR_RECORD;
+        return -CAP_ERR_RECORD;
     }
     const uint16_t *raw = f->raw;
     if (!raw) {
@@ -63,13 +63,13 @@ static cap_error run_record(run_state *r, const cap_frame *f, int64_t first_utim
     /* Times from 1 s, as tryon-synth writes them (fakenect reads a time of 0 as "none"). */
     if (rec_writer_frame(r->writer, raw, 1.0 + t, (uint32_t)f->device_timestamp, &why) != REC_OK) {
         snprintf(err, errlen, "%s", why.message);
-        return CAP_ERR_RECORD;
+        return -CAP_ERR_RECORD;
     }
     return CAP_OK;
 }
 
-static cap_error publish(run_state *r, lcm_t *lcm, const cap_frame *f, const char *source,
-                         char *err, size_t errlen)
+static int publish(run_state *r, lcm_t *lcm, const cap_frame *f, const char *source, char *err,
+                   size_t errlen)
 {
     size_t n = (size_t)f->width * (size_t)f->height;
     if (n * 2 > r->bytes_cap) {
@@ -78,7 +78,7 @@ static cap_error publish(run_state *r, lcm_t *lcm, const cap_frame *f, const cha
         r->bytes = malloc(n * 2);
         r->bytes_cap = r->bytes ? n * 2 : 0;
         if (!r->bytes)
-            return CAP_ERR_NO_MEMORY;
+            return -CAP_ERR_NO_MEMORY;
     }
     for (size_t i = 0; i < n; i++) {
         r->bytes[2 * i] = (uint8_t)(f->depth_mm[i] & 0xff);
@@ -100,11 +100,11 @@ static cap_error publish(run_state *r, lcm_t *lcm, const cap_frame *f, const cha
                                .data = r->bytes};
     memcpy(msg.camera_to_world, r->c2w, sizeof r->c2w);
     bus_reject why;
-    bus_error e = bus_publish(lcm, r->channel, BUS_DEPTH_FRAME, &msg, &why);
+    int e = bus_publish(lcm, r->channel, BUS_DEPTH_FRAME, &msg, &why);
     if (e != BUS_OK) {
         snprintf(err, errlen, "frame %d on %s: %s (%s)", f->seq, r->channel, bus_error_text(e),
                  why.detail);
-        return CAP_ERR_BUS;
+        return -CAP_ERR_BUS;
     }
     return CAP_OK;
 }
@@ -118,12 +118,12 @@ static void run_free(run_state *r)
     free(r->lag_ms);
 }
 
-static cap_error run_setup(run_state *r, const cap_run_desc *d, char *err, size_t errlen)
+static int run_setup(run_state *r, const cap_run_desc *d, char *err, size_t errlen)
 {
-    cap_error code;
+    int code;
     if (bus_channel(BUS_CHANNEL_DEPTH, r->channel, sizeof r->channel) != 0) {
         snprintf(err, errlen, "channel name too long (TRYON_CHANNEL_PREFIX)");
-        return CAP_ERR_ARG;
+        return -CAP_ERR_ARG;
     }
     if (d->camera_to_world)
         memcpy(r->c2w, d->camera_to_world, sizeof r->c2w);
@@ -135,13 +135,13 @@ static cap_error run_setup(run_state *r, const cap_run_desc *d, char *err, size_
     r->bytes = malloc(r->bytes_cap);
     r->record = malloc(sizeof(uint16_t) * REC_WIDTH * REC_HEIGHT);
     if (!r->lag_ms || !r->bytes || !r->record)
-        return CAP_ERR_NO_MEMORY;
+        return -CAP_ERR_NO_MEMORY;
     if (d->record_dir) {
         rec_report why;
         r->writer = rec_writer_create(d->record_dir, &why);
         if (!r->writer) {
             snprintf(err, errlen, "--record: %s", why.message);
-            return CAP_ERR_RECORD;
+            return -CAP_ERR_RECORD;
         }
     }
     cap_source_desc sd = {.uri = d->uri, .max_speed = d->rate.mode != CAP_RATE_REALTIME};
@@ -156,12 +156,12 @@ static float ms_between(int64_t a_us, int64_t b_us)
 
 /* One frame: fetch, wait for its due time, stamp, publish, record. A frame skipped (live camera
  * in FPS mode) or interrupted by a stop while waiting is not counted. */
-static cap_error run_frame(run_state *r, const cap_run_desc *d, cap_pacer *pacer,
-                           volatile sig_atomic_t *stop, char *err, size_t errlen)
+static int run_frame(run_state *r, const cap_run_desc *d, cap_pacer *pacer,
+                     volatile sig_atomic_t *stop, char *err, size_t errlen)
 {
     cap_frame f;
     int64_t t_fetch = bus_now_mono_us();
-    cap_error e = cap_source_next(r->src, &f, err, errlen);
+    int e = cap_source_next(r->src, &f, err, errlen);
     if (e != CAP_OK)
         return e;
     int64_t t_fetched = bus_now_mono_us();
@@ -197,12 +197,12 @@ static cap_error run_frame(run_state *r, const cap_run_desc *d, cap_pacer *pacer
     return CAP_OK;
 }
 
-cap_error cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_stats *stats,
-                  char *err, size_t errlen)
+int cap_run(const cap_run_desc *d, volatile sig_atomic_t *stop, cap_run_stats *stats, char *err,
+            size_t errlen)
 {
     run_state r = {0};
     memset(stats, 0, sizeof *stats);
-    cap_error e = run_setup(&r, d, err, errlen);
+    int e = run_setup(&r, d, err, errlen);
     cap_pacer pacer;
     cap_pacer_init(&pacer, d->rate);
     /* A recorded frame is fetched (read, converted) first, then waits for its due time, is

@@ -13,13 +13,15 @@ static const char *const error_names[] = {CAP_ERROR_LIST(CAP_ERROR_NAME)};
 static const char *const error_texts[] = {CAP_ERROR_LIST(CAP_ERROR_TEXT)};
 #undef CAP_ERROR_TEXT
 
-const char *cap_error_name(cap_error e)
+const char *cap_error_name(int e)
 {
+    e = e < 0 ? -e : e;
     return (unsigned)e < CAP_ERROR_COUNT ? error_names[e] : "CAP_ERR_UNKNOWN";
 }
 
-const char *cap_error_text(cap_error e)
+const char *cap_error_text(int e)
 {
+    e = e < 0 ? -e : e;
     return (unsigned)e < CAP_ERROR_COUNT ? error_texts[e] : "unknown error";
 }
 
@@ -39,19 +41,19 @@ const char *cap_source_name(int i)
     return i >= 0 && i < SOURCE_COUNT ? sources[i]->name : NULL;
 }
 
-cap_source *cap_source_create(const char *name, const cap_source_desc *d, cap_error *code,
-                              char *err, size_t errlen)
+cap_source *cap_source_create(const char *name, const cap_source_desc *d, int *code, char *err,
+                              size_t errlen)
 {
     const cap_source_api *api = cap_source_find(name);
     if (!api) {
         snprintf(err, errlen, "unknown source '%s' (freenect or openni2)", name ? name : "");
-        *code = CAP_ERR_SOURCE;
+        *code = -CAP_ERR_SOURCE;
         return NULL;
     }
     cap_source *s = calloc(1, sizeof *s);
     if (!s) {
         snprintf(err, errlen, "out of memory");
-        *code = CAP_ERR_NO_MEMORY;
+        *code = -CAP_ERR_NO_MEMORY;
         return NULL;
     }
     s->api = api;
@@ -64,7 +66,7 @@ cap_source *cap_source_create(const char *name, const cap_source_desc *d, cap_er
     return s;
 }
 
-cap_error cap_source_next(cap_source *s, cap_frame *out, char *err, size_t errlen)
+int cap_source_next(cap_source *s, cap_frame *out, char *err, size_t errlen)
 {
     return s->api->next(s, out, err, errlen);
 }

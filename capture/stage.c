@@ -29,35 +29,35 @@ int cap_uri_is_dump(const char *uri)
     return uri && stat(uri, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-cap_error cap_fakenect_stage(const char *dump_dir, char *staged, size_t staged_size, char *err,
-                             size_t errlen)
+int cap_fakenect_stage(const char *dump_dir, char *staged, size_t staged_size, char *err,
+                       size_t errlen)
 {
     rec_report why;
     int frames = 0;
     if (rec_validate(dump_dir, &frames, &why) != REC_OK) {
         snprintf(err, errlen, "%s [%s]", why.message, rec_error_name(why.code));
-        return CAP_ERR_RECORDING;
+        return -CAP_ERR_RECORDING;
     }
     rec_index idx;
     if (rec_index_read(dump_dir, &idx, &why) != REC_OK) {
         rec_index_free(&idx);
         snprintf(err, errlen, "%s", why.message);
-        return CAP_ERR_RECORDING;
+        return -CAP_ERR_RECORDING;
     }
     char abs[PATH_MAX];
     if (!realpath(dump_dir, abs)) {
         rec_index_free(&idx);
         snprintf(err, errlen, "%s: %s", dump_dir, strerror(errno));
-        return CAP_ERR_RECORDING;
+        return -CAP_ERR_RECORDING;
     }
     const char *tmp = getenv("TMPDIR");
     snprintf(staged, staged_size, "%s/tryon-fakenect-XXXXXX", tmp && *tmp ? tmp : "/tmp");
     if (!mkdtemp(staged)) {
         rec_index_free(&idx);
         snprintf(err, errlen, "cannot make a staging directory %s: %s", staged, strerror(errno));
-        return CAP_ERR_RECORDING;
+        return -CAP_ERR_RECORDING;
     }
-    cap_error code = CAP_OK;
+    int code = CAP_OK;
     char path[PATH_MAX + 128], target[PATH_MAX + 128];
     snprintf(path, sizeof path, "%s/INDEX.txt", staged);
     FILE *fp = fopen(path, "wb");
@@ -68,10 +68,10 @@ cap_error cap_fakenect_stage(const char *dump_dir, char *staged, size_t staged_s
         snprintf(path, sizeof path, "%s/%s", staged, name);
         snprintf(target, sizeof target, "%s/%s", abs, idx.frames[i].name);
         if (symlink(target, path) != 0 || fprintf(fp, "%s\n", name) < 0)
-            code = CAP_ERR_RECORDING;
+            code = -CAP_ERR_RECORDING;
     }
     if (!fp || fclose(fp) != 0)
-        code = CAP_ERR_RECORDING;
+        code = -CAP_ERR_RECORDING;
     rec_index_free(&idx);
     if (code != CAP_OK) {
         snprintf(err, errlen, "cannot write the staging directory %s: %s", staged, strerror(errno));

@@ -14,6 +14,7 @@
 
 #include "bodyfit.h"
 #include "cloth.h"
+#include "passes.h"
 #include "cloth_cloth.h"
 #include "dress_internal.h"
 

@@ -19,7 +19,7 @@ int mirror_png_write(const char *path, const uint8_t *rgb, int width, int height
     FILE *f = fopen(path, "wb");
     if (!f) {
         snprintf(err, n, "%s: %s", path, strerror(errno));
-        return -1;
+        return -MIRROR_ERR_IO;
     }
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = png ? png_create_info_struct(png) : NULL;
@@ -27,7 +27,7 @@ int mirror_png_write(const char *path, const uint8_t *rgb, int width, int height
         png_destroy_write_struct(&png, &info);
         fclose(f);
         snprintf(err, n, "%s: libpng could not write it", path);
-        return -1;
+        return -MIRROR_ERR_IO;
     }
     png_init_io(png, f);
     png_set_compression_level(png, 1);
@@ -41,7 +41,7 @@ int mirror_png_write(const char *path, const uint8_t *rgb, int width, int height
     png_destroy_write_struct(&png, &info);
     if (fclose(f) != 0) {
         snprintf(err, n, "%s: %s", path, strerror(errno));
-        return -1;
+        return -MIRROR_ERR_IO;
     }
     return 0;
 }
@@ -120,7 +120,7 @@ int mirror_video_write(mirror_video *v, const uint8_t *rgb)
         if (k < 0 && errno == EINTR)
             continue;
         if (k <= 0)
-            return -1; /* ffmpeg has gone: the caller reports and stops the video */
+            return -MIRROR_ERR_VIDEO; /* ffmpeg has gone: the caller reports and stops the video */
         done += (size_t)k;
     }
     return 0;

@@ -11,14 +11,14 @@ int mirror_cpu_mesh_reserve(mirror_cpu_mesh *m, int nv, int ni)
     if (nv > m->v_cap) {
         mirror_vertex *v = realloc(m->v, (size_t)nv * sizeof *v);
         if (!v)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         m->v = v;
         m->v_cap = nv;
     }
     if (ni > m->i_cap) {
         uint32_t *i = realloc(m->idx, (size_t)ni * sizeof *i);
         if (!i)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         m->idx = i;
         m->i_cap = ni;
     }
@@ -56,7 +56,7 @@ static void cross3(const float *a, const float *b, float *out)
 int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out)
 {
     if (mirror_cpu_mesh_reserve(out, m->nv, m->nt * 3) < 0)
-        return -1;
+        return -MIRROR_ERR_NO_MEMORY;
     for (int i = 0; i < m->nv; i++) {
         mirror_vertex *p = &out->v[i];
         memcpy(p->pos, &m->xyz[i * 3], 3 * sizeof(float));
@@ -71,7 +71,7 @@ int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mi
     for (int t = 0; t < m->nt; t++) {
         const int32_t *f = &m->tris[t * 3];
         if (f[0] < 0 || f[1] < 0 || f[2] < 0 || f[0] >= m->nv || f[1] >= m->nv || f[2] >= m->nv)
-            return -1;
+            return -MIRROR_ERR_MESH;
         const float *a = out->v[f[0]].pos, *b = out->v[f[1]].pos, *c = out->v[f[2]].pos;
         float ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         float ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, n[3];

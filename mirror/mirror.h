@@ -11,6 +11,22 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Why something failed; functions return 0 or -MIRROR_ERR_x (docs/building.md, "Conventions:
+ * errors"), with a sentence in err where they take one. One list makes the enum and the words. */
+#define MIRROR_ERROR_LIST(X)                                                                       \
+    X(MIRROR_OK, "ok")                                                                             \
+    X(MIRROR_ERR_NO_MEMORY, "out of memory")                                                       \
+    X(MIRROR_ERR_MESH, "triangle index out of range")                                              \
+    X(MIRROR_ERR_GL, "OpenGL error")                                                               \
+    X(MIRROR_ERR_IO, "file cannot be written")                                                     \
+    X(MIRROR_ERR_VIDEO, "the video encoder has gone")
+
+#define MIRROR_ERROR_ENUM(id, text) id,
+typedef enum mirror_error { MIRROR_ERROR_LIST(MIRROR_ERROR_ENUM) MIRROR_ERROR_COUNT } mirror_error;
+#undef MIRROR_ERROR_ENUM
+const char *mirror_error_name(int e); /* "MIRROR_ERR_IO"; accepts e or -e */
+const char *mirror_error_text(int e); /* "file cannot be written" */
+
 /* One depth frame as the renderer needs it; data points at w * h little-endian uint16. */
 typedef struct mirror_depth {
     int width, height;
@@ -43,7 +59,7 @@ typedef struct mirror_view {
 typedef struct mirror_renderer mirror_renderer;
 mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t err_size);
 void mirror_renderer_destroy(mirror_renderer *r);
-/* Draws into the renderer's framebuffer object. Returns 0, or -1 with err filled. */
+/* Draws into the renderer's framebuffer object. Returns 0, or -MIRROR_ERR_x with err filled. */
 int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t err_size);
 /* The last picture, rows top to bottom, RGB: width * height * 3 bytes. */
 int mirror_read_rgb(mirror_renderer *r, uint8_t *rgb);
@@ -104,7 +120,7 @@ int mirror_text(uint8_t *rgba, int width, int height, int x, int y, int scale, c
 typedef struct mirror_ring mirror_ring;
 mirror_ring *mirror_ring_create(void);
 void mirror_ring_destroy(mirror_ring *r);
-/* Copies the frame in, replacing the oldest. Returns 0 or -1 (out of memory). */
+/* Copies the frame in, replacing the oldest. Returns 0 or -MIRROR_ERR_NO_MEMORY. */
 int mirror_ring_push(mirror_ring *r, const mirror_depth *d);
 /* The frame with this utime_capture; else the newest older one (*exact = 0); NULL if none. */
 const mirror_depth *mirror_ring_find(const mirror_ring *r, int64_t utime_capture, int *exact);

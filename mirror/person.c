@@ -87,7 +87,7 @@ int mirror_person_image(const mirror_depth *d, float **buf, int *cap)
     if (need > *cap) {
         float *p = realloc(*buf, (size_t)need * sizeof *p);
         if (!p)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         *buf = p;
         *cap = need;
     }

@@ -183,7 +183,7 @@ static int targets(mirror_renderer *r, char *err, size_t n)
     GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (st != GL_FRAMEBUFFER_COMPLETE) {
         snprintf(err, n, "framebuffer %dx%d incomplete (0x%x)", r->w, r->h, st);
-        return -1;
+        return -MIRROR_ERR_GL;
     }
     return 0;
 }
@@ -304,7 +304,7 @@ static void quad(mirror_renderer *r, const float xyuv[16])
 static int person(mirror_renderer *r, const mirror_depth *d, const float proj[16])
 {
     if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
-        return -1;
+        return -MIRROR_ERR_NO_MEMORY;
     float s, offx;
     mirror_picture_fit(d, r->w, r->h, &s, &offx);
     glActiveTexture(GL_TEXTURE0);
@@ -396,16 +396,17 @@ int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
         glDisable(GL_CULL_FACE); /* the mirror flip turns every winding around */
         if (person(r, v->depth, proj) < 0) {
             snprintf(err, n, "out of memory for the person's image");
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         }
         glUseProgram(r->mesh_prog);
         if (v->garment) {
             float rgba[4] = MIRROR_GARMENT_RGBA;
             if (v->garment_rgb[0] + v->garment_rgb[1] + v->garment_rgb[2] > 0.0f)
                 memcpy(rgba, v->garment_rgb, sizeof v->garment_rgb);
-            if (mirror_world_mesh(v->garment, rgba, v->fit_map, &r->cpu_garment) < 0) {
-                snprintf(err, n, "garment mesh: index out of range or out of memory");
-                return -1;
+            int rc = mirror_world_mesh(v->garment, rgba, v->fit_map, &r->cpu_garment);
+            if (rc < 0) {
+                snprintf(err, n, "garment mesh: %s", mirror_error_text(rc));
+                return rc;
             }
             draw(r, &r->garment, &r->cpu_garment, mvp, w2c);
         }
@@ -426,7 +427,7 @@ int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         snprintf(err, n, "OpenGL error 0x%x while drawing", e);
-        return -1;
+        return -MIRROR_ERR_GL;
     }
     return 0;
 }

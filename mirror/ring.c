@@ -39,7 +39,7 @@ int mirror_ring_push(mirror_ring *r, const mirror_depth *d)
     if (n > s->cap) {
         uint16_t *p = realloc(s->pixels, n * sizeof *p);
         if (!p)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         s->pixels = p;
         s->cap = n;
     }

@@ -51,14 +51,14 @@ static int grow(mirror_strain *s, int nv, int ne)
         if (e)
             s->edges = e;
         if (!r)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         s->rest = r;
         s->e_cap = ne;
     }
     if (nv > s->v_cap) {
         float *v = realloc(s->vertex, (size_t)nv * sizeof *v);
         if (!v)
-            return -1;
+            return -MIRROR_ERR_NO_MEMORY;
         s->vertex = v;
         s->v_cap = nv;
     }

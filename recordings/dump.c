@@ -18,21 +18,23 @@ static const char *const error_names[] = {REC_ERROR_LIST(REC_ERROR_NAME)};
 static const char *const error_texts[] = {REC_ERROR_LIST(REC_ERROR_TEXT)};
 #undef REC_ERROR_TEXT
 
-const char *rec_error_name(rec_error e)
+const char *rec_error_name(int e)
 {
+    e = e < 0 ? -e : e;
     return (unsigned)e < REC_ERROR_COUNT ? error_names[e] : "REC_ERR_UNKNOWN";
 }
 
-const char *rec_error_text(rec_error e)
+const char *rec_error_text(int e)
 {
+    e = e < 0 ? -e : e;
     return (unsigned)e < REC_ERROR_COUNT ? error_texts[e] : "unknown error";
 }
 
-rec_error rec_fail(rec_report *why, rec_error code, const char *file, int frame, int line,
-                   const char *fmt, ...)
+int rec_fail(rec_report *why, rec_error code, const char *file, int frame, int line,
+             const char *fmt, ...)
 {
     if (!why)
-        return code;
+        return -(int)code;
     why->code = code;
     why->frame = frame;
     why->line = line;
@@ -53,7 +55,7 @@ rec_error rec_fail(rec_report *why, rec_error code, const char *file, int frame,
         snprintf(where, sizeof where, " (INDEX.txt line %d)", line);
     snprintf(why->message, sizeof why->message, "%s%s: %s%s%s", why->file, where, error_texts[code],
              detail[0] ? ": " : "", detail);
-    return code;
+    return -(int)code;
 }
 
 static void report_ok(rec_report *why)
@@ -88,13 +90,13 @@ static int parse_line(const char *line, char *type, double *t, unsigned *ts)
     return 0;
 }
 
-static rec_error index_add(rec_index *out, int *cap, double t, unsigned ts, const char *name)
+static int index_add(rec_index *out, int *cap, double t, unsigned ts, const char *name)
 {
     if (out->count == *cap) {
         int ncap = *cap ? *cap * 2 : 64;
         rec_entry *f = realloc(out->frames, (size_t)ncap * sizeof *f);
         if (!f)
-            return REC_ERR_NO_MEMORY;
+            return -REC_ERR_NO_MEMORY;
         out->frames = f;
         *cap = ncap;
     }
@@ -106,8 +108,8 @@ static rec_error index_add(rec_index *out, int *cap, double t, unsigned ts, cons
 }
 
 /* One INDEX.txt line (newline removed). ended_at: the first empty line seen, 0 = none. */
-static rec_error index_line(rec_index *out, int *cap, char *line, int lineno, int *ended_at,
-                            const char *path, rec_report *why)
+static int index_line(rec_index *out, int *cap, char *line, int lineno, int *ended_at,
+                      const char *path, rec_report *why)
 {
     if (line[0] == 0) {
         /* fakenect stops at the first empty line (a line of spaces is a file name to it):
@@ -137,7 +139,7 @@ static rec_error index_line(rec_index *out, int *cap, char *line, int lineno, in
     return REC_OK;
 }
 
-rec_error rec_index_read(const char *dir, rec_index *out, rec_report *why)
+int rec_index_read(const char *dir, rec_index *out, rec_report *why)
 {
     memset(out, 0, sizeof *out);
     report_ok(why);
@@ -153,7 +155,7 @@ rec_error rec_index_read(const char *dir, rec_index *out, rec_report *why)
         return rec_fail(why, REC_ERR_NO_INDEX, path, -1, 0, "%s", strerror(errno));
     char line[1024];
     int cap = 0, lineno = 0, ended_at = 0;
-    rec_error err = REC_OK;
+    int err = REC_OK;
     while (err == REC_OK && fgets(line, sizeof line, fp)) {
         lineno++;
         size_t len = strlen(line);
@@ -171,15 +173,14 @@ rec_error rec_index_read(const char *dir, rec_index *out, rec_report *why)
     return err;
 }
 
-rec_error rec_frame_read(const char *dir, const rec_entry *e, int frame, uint16_t *raw,
-                         rec_report *why)
+int rec_frame_read(const char *dir, const rec_entry *e, int frame, uint16_t *raw, rec_report *why)
 {
     char path[512];
     snprintf(path, sizeof path, "%s/%s", dir, e->name);
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return rec_fail(why, REC_ERR_NO_FRAME, path, frame, 0, "%s", strerror(errno));
-    rec_error err = REC_OK;
+    int err = REC_OK;
     char header[sizeof REC_PGM_HEADER];
     size_t hl = strlen(REC_PGM_HEADER);
     size_t got = fread(header, 1, hl, fp);
@@ -221,12 +222,12 @@ done:
     return err;
 }
 
-rec_error rec_validate(const char *dir, int *frames_out, rec_report *why)
+int rec_validate(const char *dir, int *frames_out, rec_report *why)
 {
     rec_index idx;
     if (frames_out)
         *frames_out = 0;
-    rec_error err = rec_index_read(dir, &idx, why);
+    int err = rec_index_read(dir, &idx, why);
     if (err != REC_OK) {
         rec_index_free(&idx);
         return err;

@@ -16,7 +16,7 @@ static void put_floats(FILE *fp, const char *key, const float *v, int n)
     fprintf(fp, "\n");
 }
 
-rec_error rec_gt_write(const char *path, const rec_gt *g, rec_report *why)
+int rec_gt_write(const char *path, const rec_gt *g, rec_report *why)
 {
     FILE *fp = fopen(path, "wb");
     if (!fp)
@@ -124,7 +124,7 @@ static int gt_line(rec_gt *g, const char *key, const char *rest, int *joints)
     return 0; /* unknown keys are left for newer readers */
 }
 
-rec_error rec_gt_read(const char *path, rec_gt *g, rec_report *why)
+int rec_gt_read(const char *path, rec_gt *g, rec_report *why)
 {
     memset(g, 0, sizeof *g);
     FILE *fp = fopen(path, "rb");
@@ -132,7 +132,7 @@ rec_error rec_gt_read(const char *path, rec_gt *g, rec_report *why)
         return rec_fail(why, REC_ERR_NO_FRAME, path, -1, 0, "%s", strerror(errno));
     char line[4096];
     int lineno = 0, joints = 0;
-    rec_error err = REC_OK;
+    int err = REC_OK;
     while (fgets(line, sizeof line, fp)) {
         lineno++;
         if (line[0] == '#' || line[0] == '\n')

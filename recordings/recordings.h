@@ -64,8 +64,9 @@ uint16_t rec_mm_to_raw(double depth_m);
 #define REC_ERROR_ENUM(id, text) id,
 typedef enum rec_error { REC_ERROR_LIST(REC_ERROR_ENUM) REC_ERROR_COUNT } rec_error;
 #undef REC_ERROR_ENUM
-const char *rec_error_name(rec_error e); /* "REC_ERR_TRUNCATED" */
-const char *rec_error_text(rec_error e);
+/* Functions return 0 or -REC_ERR_x (docs/building.md, "Conventions: errors"). */
+const char *rec_error_name(int e); /* "REC_ERR_TRUNCATED"; accepts e or -e */
+const char *rec_error_text(int e);
 
 /* Where a check failed: the file, the frame (index among depth frames, -1 = not a frame) and
  * the INDEX.txt line (1-based, 0 = none), and a sentence for the user. */
@@ -90,32 +91,30 @@ typedef struct rec_index {
     rec_entry *frames;
 } rec_index;
 
-/* Reads INDEX.txt. Returns REC_OK or an error with the report filled; free with
+/* Reads INDEX.txt. Returns 0 or -REC_ERR_x with the report filled; free with
  * rec_index_free (also after a failure). */
-rec_error rec_index_read(const char *dir, rec_index *out, rec_report *why);
+int rec_index_read(const char *dir, rec_index *out, rec_report *why);
 void rec_index_free(rec_index *idx);
 
 /* Full check of a dump before anything replays it: INDEX.txt present and parsable, at least one
  * depth frame, every frame present with the exact header and size, values <= 2047, record times
  * increasing, device timestamps not going backwards (modulo 2^32 wrap). Stops at the first
  * problem. frames_out (may be NULL) gets the number of depth frames. */
-rec_error rec_validate(const char *dir, int *frames_out, rec_report *why);
+int rec_validate(const char *dir, int *frames_out, rec_report *why);
 
 /* Reads one frame file (header checked) into raw[640*480] (host order). */
-rec_error rec_frame_read(const char *dir, const rec_entry *e, int frame, uint16_t *raw,
-                         rec_report *why);
+int rec_frame_read(const char *dir, const rec_entry *e, int frame, uint16_t *raw, rec_report *why);
 
 /* Writes a dump frame by frame. INDEX.txt is flushed after every frame, so a dump cut short by a
  * signal is still a valid dump of the frames written. */
 typedef struct rec_writer rec_writer;
 rec_writer *rec_writer_create(const char *dir, rec_report *why); /* makes dir if needed */
-/* raw: 640*480 values, written little-endian. Returns REC_OK or REC_ERR_IO. */
-rec_error rec_writer_frame(rec_writer *w, const uint16_t *raw, double record_time_s,
-                           uint32_t device_timestamp, rec_report *why);
+/* raw: 640*480 values, written little-endian. Returns 0 or -REC_ERR_IO. */
+int rec_writer_frame(rec_writer *w, const uint16_t *raw, double record_time_s,
+                     uint32_t device_timestamp, rec_report *why);
 /* Adds a ground-truth line "frame time depth_file gt_file" to groundtruth.txt and returns the
  * path for the gt file of the last frame written in path (size path_size). */
-rec_error rec_writer_gt_path(rec_writer *w, char *path, size_t path_size, char *name,
-                             size_t name_size);
+int rec_writer_gt_path(rec_writer *w, char *path, size_t path_size, char *name, size_t name_size);
 int rec_writer_frames(const rec_writer *w);
 void rec_writer_destroy(rec_writer *w);
 
@@ -200,8 +199,8 @@ typedef struct rec_gt {
     uint64_t seed;
     rec_scene scene;
 } rec_gt;
-rec_error rec_gt_write(const char *path, const rec_gt *g, rec_report *why);
-rec_error rec_gt_read(const char *path, rec_gt *g, rec_report *why);
+int rec_gt_write(const char *path, const rec_gt *g, rec_report *why);
+int rec_gt_read(const char *path, rec_gt *g, rec_report *why);
 
 /* tryon-synth. Motions: bodyfit's (still, arm_raise, turn, walk, fast_swing, enter_leave, ...),
  * "occlusion" (arm_raise behind a box), or a motion-capture file FILE.bvh retargeted onto the
@@ -218,6 +217,6 @@ typedef struct rec_synth_desc {
 } rec_synth_desc;
 /* Names tryon-synth accepts, NULL past the end. */
 const char *rec_synth_motion_name(int i);
-rec_error rec_synth(const rec_synth_desc *d, rec_report *why);
+int rec_synth(const rec_synth_desc *d, rec_report *why);
 
 #endif

@@ -77,7 +77,7 @@ static void fill_gt(rec_gt *g, const rec_synth_desc *d, const char *motion, cons
     g->scene = *scene;
 }
 
-static rec_error synth_setup(synth_state *s, const rec_synth_desc *d, rec_report *why)
+static int synth_setup(synth_state *s, const rec_synth_desc *d, rec_report *why)
 {
     char err[256] = "";
     fit_model_desc md = {.shape = fit_shape_preset(d->shape),
@@ -94,11 +94,11 @@ static rec_error synth_setup(synth_state *s, const rec_synth_desc *d, rec_report
     if (!s->vertices || !s->background || !s->depth || !s->scratch || !s->raw)
         return rec_fail(why, REC_ERR_NO_MEMORY, d->out_dir, -1, 0, NULL);
     s->writer = rec_writer_create(d->out_dir, why);
-    return s->writer ? REC_OK : why->code;
+    return s->writer ? REC_OK : -(int)why->code;
 }
 
-static rec_error synth_frame(synth_state *s, const rec_synth_desc *d, int motion, const char *name,
-                             const rec_scene *scene, int k, rec_report *why)
+static int synth_frame(synth_state *s, const rec_synth_desc *d, int motion, const char *name,
+                       const rec_scene *scene, int k, rec_report *why)
 {
     float c2w[16], joints[3 * FIT_JOINT_COUNT];
     rec_camera_to_world(c2w);
@@ -117,7 +117,7 @@ static rec_error synth_frame(synth_state *s, const rec_synth_desc *d, int motion
     rec_noise_apply(&nd, k, s->depth, s->scratch, s->raw);
     /* Record times start at 1 s: fakenect treats a previous time of exactly 0 as "none". Device
      * timestamps count microseconds, like OpenNI's; a Kinect's own counter differs. */
-    rec_error e = rec_writer_frame(s->writer, s->raw, 1.0 + t, (uint32_t)llround(t * 1e6), why);
+    int e = rec_writer_frame(s->writer, s->raw, 1.0 + t, (uint32_t)llround(t * 1e6), why);
     if (e != REC_OK)
         return e;
     rec_gt g;
@@ -138,7 +138,7 @@ static int is_bvh(const char *motion)
 }
 
 /* A motion-capture file retargeted onto the recording's body (bodyfit.h, fit_clip). */
-static rec_error synth_clip(synth_state *s, const char *path, rec_report *why)
+static int synth_clip(synth_state *s, const char *path, rec_report *why)
 {
     char err[256] = "";
     fit_bvh *b = NULL;
@@ -156,7 +156,7 @@ static const char *gt_name(const char *motion)
     return slash ? slash + 1 : motion;
 }
 
-rec_error rec_synth(const rec_synth_desc *d, rec_report *why)
+int rec_synth(const rec_synth_desc *d, rec_report *why)
 {
     if (why)
         memset(why, 0, sizeof *why);
@@ -174,7 +174,7 @@ rec_error rec_synth(const rec_synth_desc *d, rec_report *why)
         return rec_fail(why, REC_ERR_ARG, "shape", -1, 0, "preset %d is not 0..%d", d->shape,
                         FIT_SHAPE_PRESETS - 1);
     synth_state s = {0};
-    rec_error e = synth_setup(&s, d, why);
+    int e = synth_setup(&s, d, why);
     if (e == REC_OK && motion < 0)
         e = synth_clip(&s, d->motion, why);
     double seconds = s.clip ? fit_clip_duration(s.clip) : fit_motion_duration((fit_motion)motion);

@@ -74,7 +74,7 @@ int main(int argc, char **argv)
         return 2;
     }
     rec_report why;
-    rec_error e = rec_synth(&d, &why);
+    int e = rec_synth(&d, &why);
     if (e != REC_OK) {
         fprintf(stderr, "tryon-synth: %s [%s]\n", why.message, rec_error_name(e));
         return 1;

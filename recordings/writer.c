@@ -61,8 +61,8 @@ rec_writer *rec_writer_create(const char *dir, rec_report *why)
     return w;
 }
 
-rec_error rec_writer_frame(rec_writer *w, const uint16_t *raw, double record_time_s,
-                           uint32_t device_timestamp, rec_report *why)
+int rec_writer_frame(rec_writer *w, const uint16_t *raw, double record_time_s,
+                     uint32_t device_timestamp, rec_report *why)
 {
     if (!w || !raw)
         return rec_fail(why, REC_ERR_ARG, NULL, -1, 0, "no writer or no frame");
@@ -95,17 +95,16 @@ rec_error rec_writer_frame(rec_writer *w, const uint16_t *raw, double record_tim
     return REC_OK;
 }
 
-rec_error rec_writer_gt_path(rec_writer *w, char *path, size_t path_size, char *name,
-                             size_t name_size)
+int rec_writer_gt_path(rec_writer *w, char *path, size_t path_size, char *name, size_t name_size)
 {
     if (!w || w->frames == 0)
-        return REC_ERR_ARG;
+        return -REC_ERR_ARG;
     if (!w->gt_index) {
         char p[512];
         snprintf(p, sizeof p, "%s/groundtruth.txt", w->dir);
         w->gt_index = fopen(p, "wb");
         if (!w->gt_index)
-            return REC_ERR_IO;
+            return -REC_ERR_IO;
         fprintf(w->gt_index, "# frame record_time_s depth_file ground_truth_file\n");
     }
     int frame = w->frames - 1;
@@ -116,7 +115,7 @@ rec_error rec_writer_gt_path(rec_writer *w, char *path, size_t path_size, char *
         snprintf(name, name_size, "%s", gt);
     if (fprintf(w->gt_index, "%d %f %s %s\n", frame, w->last_time, w->last_name, gt) < 0 ||
         fflush(w->gt_index) != 0)
-        return REC_ERR_IO;
+        return -REC_ERR_IO;
     return REC_OK;
 }
 

@@ -16,6 +16,7 @@
 
 #include "bodyfit.h"
 #include "collide.h"
+#include "collide_bvh.h"
 
 #define ITERATIONS    25
 #define CONTACT_EVERY 10     /* tryon: iterations between contact refreshes (sim/cloth.h) */

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
 #include "scene.h"
 #include "sim.h"
 

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
 
 /* Depth bound of either tree. An LBVH over 30-bit codes extended by a 32-bit index: each level
    lengthens the common prefix by at least one bit. The SAH build: SAH splits down to SAH_DEPTH,
@@ -52,7 +53,7 @@ int sim_bvh_init(sim_bvh *b, int max_triangles)
         !b->shi || !b->refit_list || !b->refit_task || !b->scratch || !b->wide || !b->wide_node ||
         !b->wleaf) {
         sim_bvh_free(b);
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     }
     return 0;
 }

@@ -12,6 +12,8 @@
 #endif
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 /* The LBVH depth bound (sim/bvh.c); the 4-wide search pushes at most three more nodes per level
    than it pops. */

@@ -17,7 +17,7 @@ int sim_cl_collide_create(sim_cl_collide *g, const sim_cl *cl, int max_nv, int m
 {
     memset(g, 0, sizeof *g);
     if (!cl || !cl->program || max_nv < 3 || max_nt < 1 || max_cloth < 0)
-        return SIM_CL_EARG;
+        return -SIM_CL_EARG;
     g->cl = cl;
     g->max_nv = max_nv, g->max_nt = max_nt, g->max_cloth = max_cloth;
     size_t nv = (size_t)max_nv, nt = (size_t)max_nt, nodes = 2 * nt - 1, nc = (size_t)max_cloth;
@@ -46,7 +46,7 @@ int sim_cl_collide_create(sim_cl_collide *g, const sim_cl *cl, int max_nv, int m
         snprintf(err, err_size, "OpenCL: buffers for %d body vertices, %d triangles: %s", max_nv,
                  max_nt, sim_cl_status_name(st));
         sim_cl_collide_destroy(g);
-        return SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
     }
     struct {
         cl_kernel *k;
@@ -59,7 +59,7 @@ int sim_cl_collide_create(sim_cl_collide *g, const sim_cl *cl, int max_nv, int m
     for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++)
         if (!(*ks[i].k = sim_cl_kernel(cl, ks[i].name, err, err_size))) {
             sim_cl_collide_destroy(g);
-            return SIM_CL_ECALL;
+            return -SIM_CL_ECALL;
         }
     return 0;
 }
@@ -160,7 +160,7 @@ int sim_cl_collide_set_body(sim_cl_collide *g, const sim_collider *c, char *err,
     int rc = 0;
     if (!g || !c || c->nt < 1 || c->nv > g->max_nv || c->nt > g->max_nt) {
         snprintf(err, err_size, "OpenCL collider: body missing or larger than its buffers");
-        return SIM_CL_EARG;
+        return -SIM_CL_EARG;
     }
     int same = c->have_prev && g->nt == c->nt && g->nv == c->nv;
     if (same) {
@@ -212,8 +212,8 @@ int sim_cl_collide_feature_points(sim_cl_collide *g, cl_mem x, cl_mem x_prev, in
     st |= ARG(k, 15, coulomb_mu);
     st |= ARG(k, 16, g->moved);
     if (st != CL_SUCCESS)
-        return SIM_CL_ECALL;
-    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
+    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : -SIM_CL_ECALL;
 }
 
 int sim_cl_collide_find_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m)
@@ -232,8 +232,8 @@ int sim_cl_collide_find_contacts(sim_cl_collide *g, cl_mem x, int begin, int end
     st |= ARG(k, 10, radius_m);
     st |= ARG(k, 11, g->contact);
     if (st != CL_SUCCESS)
-        return SIM_CL_ECALL;
-    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
+    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : -SIM_CL_ECALL;
 }
 
 int sim_cl_collide_track_contacts(sim_cl_collide *g, cl_mem x, int begin, int end, float radius_m)
@@ -254,8 +254,8 @@ int sim_cl_collide_track_contacts(sim_cl_collide *g, cl_mem x, int begin, int en
     st |= ARG(k, 12, radius_m);
     st |= ARG(k, 13, g->contact);
     if (st != CL_SUCCESS)
-        return SIM_CL_ECALL;
-    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
+    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : -SIM_CL_ECALL;
 }
 
 int sim_cl_collide_resolve(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin, int end,
@@ -276,8 +276,8 @@ int sim_cl_collide_resolve(sim_cl_collide *g, cl_mem x, cl_mem x_prev, int begin
     st |= ARG(k, 11, thickness_m);
     st |= ARG(k, 12, friction);
     if (st != CL_SUCCESS)
-        return SIM_CL_ECALL;
-    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
+    return launch(g->cl, k, end - begin) == CL_SUCCESS ? 0 : -SIM_CL_ECALL;
 }
 
 int sim_cl_collide_signed_distance(sim_cl_collide *g, cl_mem x, int n)
@@ -298,6 +298,6 @@ int sim_cl_collide_signed_distance(sim_cl_collide *g, cl_mem x, int n)
     st |= ARG(k, 12, g->vt_list);
     st |= ARG(k, 13, g->sd);
     if (st != CL_SUCCESS)
-        return SIM_CL_ECALL;
-    return launch(g->cl, k, n) == CL_SUCCESS ? 0 : SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
+    return launch(g->cl, k, n) == CL_SUCCESS ? 0 : -SIM_CL_ECALL;
 }

@@ -22,7 +22,7 @@ typedef struct sim_cl_collide {
     cl_kernel k_morton, k_nodes, k_refit, k_normals, k_fp, k_contacts, k_resolve, k_sd, k_track;
 } sim_cl_collide;
 
-/* cl must have a program built with SIM_CL_COLLIDE_FILES. 0 or a sim_cl_error. */
+/* cl must have a program built with SIM_CL_COLLIDE_FILES. 0 or -SIM_CL_Ex. */
 int sim_cl_collide_create(sim_cl_collide *g, const sim_cl *cl, int max_nv, int max_nt,
                           int max_cloth, char *err, size_t err_size);
 void sim_cl_collide_destroy(sim_cl_collide *g); /* accepts a zeroed g */

@@ -15,6 +15,7 @@
         return text;
 const char *sim_cl_error_str(int code)
 {
+    code = code < 0 ? -code : code;
     switch (code) {
         SIM_CL_ERROR_LIST(SIM_CL_ERROR_TEXT)
     }
@@ -80,7 +81,7 @@ static int choose_device(sim_cl *cl, char *err, size_t err_size)
     cl_uint np = 0;
     if (clGetPlatformIDs(MAX_PLATFORMS, plats, &np) != CL_SUCCESS || np == 0) {
         snprintf(err, err_size, "OpenCL: no platform found (is an ICD such as pocl installed?)");
-        return SIM_CL_ENODEVICE;
+        return -SIM_CL_ENODEVICE;
     }
     np = np > MAX_PLATFORMS ? MAX_PLATFORMS : np;
     const char *want = getenv("TRYON_CL_DEVICE");
@@ -122,11 +123,11 @@ static int choose_device(sim_cl *cl, char *err, size_t err_size)
     if (want && *want) {
         snprintf(err, err_size, "OpenCL: TRYON_CL_DEVICE=\"%s\" matches no device (see clinfo -l)",
                  want);
-        return SIM_CL_ENAMED;
+        return -SIM_CL_ENAMED;
     }
     if (!found_any) {
         snprintf(err, err_size, "OpenCL: platforms found but no device");
-        return SIM_CL_ENODEVICE;
+        return -SIM_CL_ENODEVICE;
     }
     return 0;
 }
@@ -134,7 +135,7 @@ static int choose_device(sim_cl *cl, char *err, size_t err_size)
 int sim_cl_probe(sim_cl *cl, char *err, size_t err_size)
 {
     if (!cl)
-        return SIM_CL_EARG;
+        return -SIM_CL_EARG;
     memset(cl, 0, sizeof *cl);
     int rc = choose_device(cl, err, err_size);
     if (rc == 0)
@@ -145,7 +146,7 @@ int sim_cl_probe(sim_cl *cl, char *err, size_t err_size)
 int sim_cl_open(sim_cl *cl, char *err, size_t err_size)
 {
     if (!cl)
-        return SIM_CL_EARG;
+        return -SIM_CL_EARG;
     memset(cl, 0, sizeof *cl);
     int rc = choose_device(cl, err, err_size);
     if (rc != 0)
@@ -168,14 +169,14 @@ int sim_cl_open(sim_cl *cl, char *err, size_t err_size)
     return 0;
 fail:
     sim_cl_close(cl);
-    return SIM_CL_ECALL;
+    return -SIM_CL_ECALL;
 }
 
 int sim_cl_build(sim_cl *cl, const char *const *files, int nfiles, char *err, size_t err_size)
 {
     const char *text[17];
     if (!cl || !cl->context || nfiles < 0 || nfiles > 16)
-        return SIM_CL_EARG;
+        return -SIM_CL_EARG;
     text[0] = kernels_source("common.cl");
     for (int i = 0; i < nfiles; i++)
         text[i + 1] = kernels_source(files[i]);
@@ -183,13 +184,13 @@ int sim_cl_build(sim_cl *cl, const char *const *files, int nfiles, char *err, si
         if (!text[i]) {
             snprintf(err, err_size, "OpenCL: kernel file %s is not embedded",
                      i == 0 ? "common.cl" : files[i - 1]);
-            return SIM_CL_ESOURCE;
+            return -SIM_CL_ESOURCE;
         }
     cl_int st;
     cl->program = clCreateProgramWithSource(cl->context, (cl_uint)nfiles + 1, text, NULL, &st);
     if (st != CL_SUCCESS) {
         snprintf(err, err_size, "OpenCL: clCreateProgramWithSource: %s", sim_cl_status_name(st));
-        return SIM_CL_ECALL;
+        return -SIM_CL_ECALL;
     }
     /* Correctly rounded / and sqrt where offered, so kernels match the C twins. */
     cl_device_fp_config fp = 0;
@@ -212,7 +213,7 @@ int sim_cl_build(sim_cl *cl, const char *const *files, int nfiles, char *err, si
                  cl->device_name, sim_cl_status_name(st));
         clReleaseProgram(cl->program);
         cl->program = NULL;
-        return SIM_CL_EBUILD;
+        return -SIM_CL_EBUILD;
     }
     return 0;
 }

@@ -15,18 +15,20 @@
 
 #define SIM_CL_ERROR_LIST(X)                                                                       \
     X(SIM_CL_OK, 0, "ok")                                                                          \
-    X(SIM_CL_ENODEVICE, -101, "no OpenCL platform or device found")                                \
-    X(SIM_CL_ENAMED, -102, "TRYON_CL_DEVICE names no device")                                      \
-    X(SIM_CL_ECALL, -103, "an OpenCL call failed")                                                 \
-    X(SIM_CL_EBUILD, -104, "the OpenCL program did not build (log on stderr)")                     \
-    X(SIM_CL_ESOURCE, -105, "a kernel source file is not embedded")                                \
-    X(SIM_CL_EARG, -106, "invalid argument")
+    X(SIM_CL_ENODEVICE, 101, "no OpenCL platform or device found")                                 \
+    X(SIM_CL_ENAMED, 102, "TRYON_CL_DEVICE names no device")                                       \
+    X(SIM_CL_ECALL, 103, "an OpenCL call failed")                                                  \
+    X(SIM_CL_EBUILD, 104, "the OpenCL program did not build (log on stderr)")                      \
+    X(SIM_CL_ESOURCE, 105, "a kernel source file is not embedded")                                 \
+    X(SIM_CL_EARG, 106, "invalid argument")
 
 #define SIM_CL_ERROR_ENUM(name, value, text) name = value,
 typedef enum sim_cl_error { SIM_CL_ERROR_LIST(SIM_CL_ERROR_ENUM) } sim_cl_error;
 #undef SIM_CL_ERROR_ENUM
 
-const char *sim_cl_error_str(int code);
+/* Functions return 0 or -SIM_CL_Ex (docs/building.md, "Conventions: errors"): 101 and up, so
+ * never mistaken for a sim_error; the backend reports any of them as -SIM_ERR_BACKEND. */
+const char *sim_cl_error_str(int code);        /* accepts code or -code */
 const char *sim_cl_status_name(cl_int status); /* "CL_OUT_OF_RESOURCES" */
 
 typedef struct sim_cl {
@@ -60,7 +62,7 @@ cl_kernel sim_cl_kernel(const sim_cl *cl, const char *name, char *err, size_t er
         if (st_ != CL_SUCCESS) {                                                                   \
             snprintf((err), (err_size), "%s:%d: %s failed: %s", __FILE__, __LINE__, #call,         \
                      sim_cl_status_name(st_));                                                     \
-            (rc) = SIM_CL_ECALL;                                                                   \
+            (rc) = -SIM_CL_ECALL;                                                                  \
             goto label;                                                                            \
         }                                                                                          \
     } while (0)

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "passes.h"
 
 typedef struct spring_list {
     int n, cap;

@@ -1,6 +1,6 @@
 /* Private to sim/: the cloth state layout both backends share (STYLE.md 3), the backend table,
- * the driver's state and constants (the passes: passes.h). Layout rule: fields are only ever added,
- * never renamed.
+ * the driver's state and constants (the passes over it: passes.h, included by their users). Layout
+ * rule: fields are only ever added, never renamed.
  */
 #ifndef TRYON_SIM_CLOTH_H
 #define TRYON_SIM_CLOTH_H
@@ -10,8 +10,7 @@
 
 #include "collide.h"
 #include "sim.h"
-
-#include "passes.h" /* the spring kinds, the passes over the cloth */
+#include "spring_kind.h"
 
 /* The cloth, structure of arrays of float. Springs are sorted by graph colour: no two springs
  * of one colour share a vertex, so a colour is processed in parallel without write conflicts

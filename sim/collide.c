@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 #define DEFAULT_THICKNESS_M 0.004f /* sim.h default: cloth kept 4 mm off the skin */
 #define DEFAULT_REACH_M                                                                            \
@@ -17,18 +19,6 @@
 #define DEGENERATE_2AREA_M2 1e-10f
 /* vn_stamp of a vertex pseudo-normal being written (body_epoch is never negative). */
 #define SIM_VN_BUSY (-2)
-
-#define SIM_COLLIDE_ERROR_TEXT(name, value, text)                                                  \
-    case name:                                                                                     \
-        return text;
-const char *sim_collide_error_str(int code)
-{
-    switch (code) {
-        SIM_COLLIDE_ERROR_LIST(SIM_COLLIDE_ERROR_TEXT)
-    }
-    return "unknown collide error";
-}
-#undef SIM_COLLIDE_ERROR_TEXT
 
 typedef struct edge_key {
     int64_t key; /* min vertex * nv + max vertex */
@@ -117,24 +107,24 @@ void sim_collider_destroy(sim_collider *c)
 int sim_collider_reserve(sim_collider *c, int max_cloth)
 {
     if (!c || max_cloth < 0)
-        return SIM_COLLIDE_EARG;
+        return -SIM_ERR_ARG;
     if (max_cloth <= c->max_cloth)
         return 0;
     int32_t *p = realloc(c->contact, (size_t)max_cloth * sizeof *p);
     if (!p)
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     c->contact = p;
     float(*q)[4] = realloc(c->clear, (size_t)max_cloth * sizeof *q);
     if (!q)
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     c->clear = q;
     float(*qu)[4] = realloc(c->quiet, (size_t)max_cloth * sizeof *qu);
     if (!qu)
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     c->quiet = qu;
     int32_t(*qk)[2] = realloc(c->quiet_key, (size_t)max_cloth * sizeof *qk);
     if (!qk)
-        return SIM_COLLIDE_ENOMEM;
+        return -SIM_ERR_NO_MEMORY;
     c->quiet_key = qk;
     for (int i = c->max_cloth; i < max_cloth; i++) {
         p[i] = -1;
@@ -231,28 +221,28 @@ int sim_closest_on_triangle(const float p[3], const float a[3], const float b[3]
 static int validate_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt)
 {
     if (!xyz || !tris || nv < 0 || nt < 0)
-        return SIM_COLLIDE_EARG;
+        return -SIM_ERR_ARG;
     if (nv == 0 || nt == 0)
-        return SIM_COLLIDE_EEMPTY;
+        return -SIM_ERR_EMPTY;
     if (nv > c->d.max_vertices || nt > c->d.max_triangles)
-        return SIM_COLLIDE_ETOO_BIG;
+        return -SIM_ERR_TOO_LARGE;
     for (int i = 0; i < 3 * nv; i++)
         if (!isfinite(xyz[i]))
-            return SIM_COLLIDE_ENAN;
+            return -SIM_ERR_NOT_FINITE;
     for (int t = 0; t < nt; t++) {
         const int32_t *f = tris + 3 * t;
         for (int k = 0; k < 3; k++)
             if (f[k] < 0 || f[k] >= nv)
-                return SIM_COLLIDE_EINDEX;
+                return -SIM_ERR_INDEX;
         if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
-            return SIM_COLLIDE_EDEGENERATE;
+            return -SIM_ERR_DEGENERATE;
         float e1[3], e2[3], cr[3];
         sim_v3_sub(xyz + 3 * f[1], xyz + 3 * f[0], e1);
         sim_v3_sub(xyz + 3 * f[2], xyz + 3 * f[0], e2);
         sim_v3_cross(e1, e2, cr);
         float len = sqrtf(sim_v3_dot(cr, cr));
         if (!(len > DEGENERATE_2AREA_M2))
-            return SIM_COLLIDE_EDEGENERATE;
+            return -SIM_ERR_DEGENERATE;
         for (int k = 0; k < 3; k++)
             c->n_next[t][k] = cr[k] / len;
         c->n_next[t][3] = 0.0f;
@@ -316,7 +306,7 @@ static int same_topology(const sim_collider *c, int nv, const int32_t *tris, int
 int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt)
 {
     if (!c)
-        return SIM_COLLIDE_EARG;
+        return -SIM_ERR_ARG;
     int rc = validate_body(c, xyz, nv, tris, nt);
     if (rc != 0)
         return rc;
@@ -366,7 +356,7 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
     for (int i = 0; i < c->max_cloth; i++)
         c->contact[i] = -1;
     c->have_prev = 0;
-    return had_body ? SIM_COLLIDE_ETOPOLOGY : 0;
+    return had_body ? -SIM_ERR_TOPOLOGY : 0;
 }
 
 /* acos by Abramowitz & Stegun 4.4.45 (error <= 6.7e-5 rad): only + - * / and sqrt, all

@@ -21,24 +21,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Errors a test can name (STYLE.md 11). */
-#define SIM_COLLIDE_ERROR_LIST(X)                                                                  \
-    X(SIM_COLLIDE_OK, 0, "ok")                                                                     \
-    X(SIM_COLLIDE_EARG, -1, "invalid argument (NULL pointer or negative count)")                   \
-    X(SIM_COLLIDE_EEMPTY, -2, "empty body mesh (no vertices or no triangles)")                     \
-    X(SIM_COLLIDE_ETOO_BIG, -3, "body larger than the collider's max_vertices/max_triangles")      \
-    X(SIM_COLLIDE_ENAN, -4, "body vertex coordinate is NaN or infinite")                           \
-    X(SIM_COLLIDE_EINDEX, -5, "triangle vertex index out of range")                                \
-    X(SIM_COLLIDE_EDEGENERATE, -6, "degenerate body triangle (repeated vertex or zero area)")      \
-    X(SIM_COLLIDE_ETOPOLOGY, -7, "body topology changed: tree rebuilt, no sweep this frame")       \
-    X(SIM_COLLIDE_ENOMEM, -8, "out of memory")
+#include "collide_bvh.h" /* the collider holds the body's BVH (struct sim_collider, below) */
+#include "sim.h"         /* sim_error */
 
-#define SIM_COLLIDE_ERROR_ENUM(name, value, text) name = value,
-typedef enum sim_collide_error { SIM_COLLIDE_ERROR_LIST(SIM_COLLIDE_ERROR_ENUM) } sim_collide_error;
-#undef SIM_COLLIDE_ERROR_ENUM
-
-/* The message of a sim_collide_error code ("unknown collide error" for anything else). */
-const char *sim_collide_error_str(int code);
+/* Errors: 0 or minus a sim_error (sim.h; docs/building.md, "Conventions: errors"), named by
+ * sim_error_name / sim_error_text. */
 
 /* ---- The interface the solver calls ------------------------------------------------------- */
 
@@ -61,8 +48,8 @@ void sim_collider_destroy(sim_collider *c); /* accepts NULL */
 
 /* New body frame: xyz is nv * 3 floats (metres), tris nt * 3 vertex indices. Frame k becomes k-1;
    refit (or build, when the topology is new) the tree over frame k and the swept boxes k-1 -> k.
-   Returns 0, or a negative sim_collide_error: a rejected body (NaN, index out of range,
-   degenerate, empty, too big) leaves the collider as it was; SIM_COLLIDE_ETOPOLOGY means the body
+   Returns 0, or minus a sim_error: a rejected body (NaN, index out of range,
+   degenerate, empty, too big) leaves the collider as it was; -SIM_ERR_TOPOLOGY means the body
    was accepted with a new topology (not said for the first body) and this frame has no sweep. */
 int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32_t *tris, int nt);
 
@@ -120,10 +107,6 @@ const sim_bvh *sim_collider_bvh(const sim_collider *c);
 const int32_t *sim_collider_contacts(const sim_collider *c); /* cached triangle per point */
 int sim_collider_body(const sim_collider *c, const float (**v)[4], const float (**v_prev)[4],
                       const int32_t (**tris)[4], const float (**n)[4]); /* returns nt */
-
-/* The geometry shared with the OpenCL twins and the LBVH, in headers of their own. */
-#include "collide_bvh.h"
-#include "collide_geometry.h"
 
 /* ---- The collider's state (private to sim/: collide.c, feature_points.c, cl_backend.c) ------ */
 

@@ -59,7 +59,7 @@ typedef struct sim_bvh_leaf4 {
     int32_t tri[4];   /* triangle of each slot, -1 when not a leaf */
 } sim_bvh_leaf4;
 
-int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or SIM_COLLIDE_ENOMEM */
+int sim_bvh_init(sim_bvh *b, int max_triangles); /* 0 or -SIM_ERR_NO_MEMORY */
 void sim_bvh_free(sim_bvh *b);
 /* Topology by binned SAH over the triangles of frame k (built once per body topology: sim/bvh.c).
    Then a refit. */

@@ -16,6 +16,8 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 /* Traversal stack: the LBVH depth bound of sim/bvh.c (96), three more a level when 4-wide. */
 #define FP_STACK (3 * 96)

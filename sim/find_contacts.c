@@ -17,6 +17,7 @@
 #endif
 
 #include "collide.h"
+#include "collide_bvh.h"
 
 /* Points a claim takes: some 25 us of searches, against an atomic operation a claim. */
 #define SHARE_CHUNK 32

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "passes.h"
 #include "frame_settings.h"
 
 _Static_assert(sizeof(sim_solver_params) == SIM_SOLVER_PARAMS_FIELDS * 4,

@@ -2,6 +2,7 @@
 #include <math.h>
 
 #include "cloth.h"
+#include "passes.h"
 
 /* Restore the min-heap order of h[0..m) below position i. */
 static void sift_down(float *h, int m, int i)

@@ -1,16 +1,11 @@
 /* Private to sim/: the solver passes over the cloth (springs.c), the C twins of the kernels in
- * kernels/springs.cl; split from cloth.h, which includes it. */
+ * kernels/springs.cl; split from cloth.h. */
 #ifndef TRYON_SIM_PASSES_H
 #define TRYON_SIM_PASSES_H
 
 #include <stdint.h>
 
-typedef enum sim_spring_kind {
-    SIM_SPRING_STRETCH = 0,
-    SIM_SPRING_SHEAR = 1,
-    SIM_SPRING_BEND = 2,
-    SIM_SPRING_KINDS
-} sim_spring_kind;
+#include "spring_kind.h"
 
 typedef struct sim_cloth sim_cloth; /* cloth.h */
 

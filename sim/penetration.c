@@ -15,6 +15,8 @@
 #include <math.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 
 /* Hits this close to q (as a fraction of |p - q|) are the surface at q itself. */
 #define SEG_END 0.999f
@@ -206,7 +208,7 @@ static int metric(const sim_collider *c, const float (*x)[4], int n, float tol_m
                   int *count, float *max_depth_m)
 {
     if (!c || (!x && n > 0) || n < 0 || !count || !max_depth_m)
-        return SIM_COLLIDE_EARG;
+        return -SIM_ERR_ARG;
     int cnt = 0;
     float deepest = 0.0f;
     if (c->nt > 0) {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "collide.h"
+#include "collide_geometry.h"
 
 /* The quiet radius (sim_collider_resolve): margins of QUIET_EPS_M = 50 um against rounding (the
    values below carry errors of some 1e-6 m for body coordinates of a few metres), and only on

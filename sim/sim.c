@@ -8,6 +8,7 @@
 
 #include "carry.h"
 #include "cloth.h"
+#include "passes.h"
 
 const char *sim_state_name(sim_state s)
 {
@@ -482,10 +483,9 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
                                   "attachment %d needs body triangle %d; body has %d", a,
                                   s->cloth.attachments[a].body_triangle, nt);
     r = sim_collider_set_body(s->collider, xyz, nv, tris, nt);
-    if (r < 0 && r != SIM_COLLIDE_ETOPOLOGY)
-        return sim_reject_set(why,
-                              r == SIM_COLLIDE_EDEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
-                              "body rejected by the collider: %s", sim_collide_error_str(r));
+    if (r < 0 && r != -SIM_ERR_TOPOLOGY)
+        return sim_reject_set(why, r == -SIM_ERR_DEGENERATE ? SIM_ERR_DEGENERATE : SIM_ERR_BACKEND,
+                              "body rejected by the collider: %s", sim_error_text(r));
     body_store(&s->body, xyz, nv, tris, nt);
     s->body.stored++;
     if (s->body.stored == 1) { /* the body the garment was made on: for re-dressing (carry) */
@@ -494,7 +494,7 @@ static int set_body(sim *s, const float *xyz, int nv, const int32_t *tris, int n
         s->first_nt = nt;
     }
     body_attachment_normals(&s->body, s->cloth.attachments, s->cloth.num_attachments);
-    if (r == SIM_COLLIDE_ETOPOLOGY)
+    if (r == -SIM_ERR_TOPOLOGY)
         s->body.have_prev = 0;
     sim_follow_motion(s);
     return 0;

@@ -12,6 +12,7 @@
 #endif
 
 #include "cloth.h"
+#include "passes.h"
 #include "frame_settings.h"
 #include "phases.h"
 

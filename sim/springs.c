@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "passes.h"
 #include "wide.h"
 
 #define WF(op)   wf1_##op

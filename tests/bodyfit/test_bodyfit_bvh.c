@@ -53,7 +53,7 @@ static void test_bvh_reads_a_hand_checked_file(void **state)
     assert_true(fabsf(p[3]) < 1e-6f && fabsf(p[4] - 2.0f) < 1e-6f && fabsf(p[5]) < 1e-6f);
     assert_int_equal(fit_bvh_world(b, 1, p, NULL), 0);
     assert_true(fabsf(p[3] - 1.0f) < 1e-6f && fabsf(p[4] - 1.0f) < 1e-6f);
-    assert_int_equal(fit_bvh_world(b, 2, p, NULL), FIT_ERR_ARG);
+    assert_int_equal(fit_bvh_world(b, 2, p, NULL), -FIT_ERR_ARG);
     fit_bvh_destroy(b);
 }
 
@@ -96,7 +96,7 @@ static void test_bvh_refuses_malformed_text_with_its_line(void **state)
         int rc = fit_bvh_parse(text, strlen(text), "t.bvh", &b, err, sizeof err);
         char want[32];
         snprintf(want, sizeof want, "t.bvh:%d: ", cases[i].line);
-        if (rc != FIT_ERR_PARSE || strncmp(err, want, strlen(want)) != 0)
+        if (rc != -FIT_ERR_PARSE || strncmp(err, want, strlen(want)) != 0)
             fail_msg("case %zu (%s -> %s): rc %d, '%s', wanted '%s...'", i, cases[i].from,
                      cases[i].to, rc, err, want);
         assert_null(b);
@@ -109,7 +109,7 @@ static void test_bvh_refuses_malformed_text_with_its_line(void **state)
             assert_true(n >= sizeof good - 4);
             fit_bvh_destroy(b);
         } else {
-            assert_int_equal(rc, FIT_ERR_PARSE);
+            assert_int_equal(rc, -FIT_ERR_PARSE);
             assert_null(b);
         }
     }
@@ -125,7 +125,7 @@ static void test_bvh_refuses_too_many_joints(void **state)
     for (int i = 0; i < FIT_BVH_MAX_JOINTS + 4; ++i)
         n += (size_t)snprintf(t + n, cap - n, "JOINT j%d\n{\nOFFSET 0 1 0\nCHANNELS 0\n", i);
     fit_bvh *b = NULL;
-    assert_int_equal(fit_bvh_parse(t, n, "deep.bvh", &b, err, sizeof err), FIT_ERR_PARSE);
+    assert_int_equal(fit_bvh_parse(t, n, "deep.bvh", &b, err, sizeof err), -FIT_ERR_PARSE);
     assert_non_null(strstr(err, "more than 256 joints"));
     assert_null(b);
     free(t);
@@ -189,7 +189,7 @@ static void test_bvh_known_joint_positions(void **state)
     }
     free(p);
     fit_bvh_destroy(b);
-    assert_int_equal(fit_bvh_load("/nonexistent/x.bvh", &b, err, sizeof err), FIT_ERR_IO);
+    assert_int_equal(fit_bvh_load("/nonexistent/x.bvh", &b, err, sizeof err), -FIT_ERR_IO);
     assert_non_null(strstr(err, "/nonexistent/x.bvh"));
 }
 

@@ -96,14 +96,17 @@ static void test_shape_validation_names_the_parameter(void **state)
         fit_shape_param_range(i, &lo, &hi);
         a[i] = hi + 0.1f;
         s = fit_shape_from_array(a);
-        assert_int_equal(fit_shape_validate(&s, err, sizeof err), FIT_ERR_RANGE);
+        assert_int_equal(fit_shape_validate(&s, err, sizeof err), -FIT_ERR_RANGE);
         assert_non_null(strstr(err, fit_shape_param_name(i)));
         a[i] = NAN;
         s = fit_shape_from_array(a);
-        assert_int_equal(fit_shape_validate(&s, err, sizeof err), FIT_ERR_NAN);
+        assert_int_equal(fit_shape_validate(&s, err, sizeof err), -FIT_ERR_NAN);
     }
-    assert_int_equal(fit_shape_validate(NULL, err, sizeof err), FIT_ERR_ARG);
+    assert_int_equal(fit_shape_validate(NULL, err, sizeof err), -FIT_ERR_ARG);
+    assert_string_equal(fit_error_string(-FIT_ERR_IO), "file could not be written");
     assert_string_equal(fit_error_string(FIT_ERR_IO), "file could not be written");
+    assert_string_equal(fit_error_name(-FIT_ERR_PARSE), "FIT_ERR_PARSE");
+    assert_string_equal(fit_error_name(FIT_ERROR_COUNT), "FIT_ERR_UNKNOWN");
 }
 
 static void test_validation_rejects_inconsistent_proportions(void **state)

@@ -355,7 +355,7 @@ static void test_write_obj_round_trips_counts(void **state)
     unlink(path);
     assert_int_equal(nv, fit_model_vertex_count(model));
     assert_int_equal(nf, fit_model_triangle_count(model));
-    assert_int_equal(fit_model_write_obj(model, NULL, "/nonexistent-dir/x.obj"), FIT_ERR_IO);
+    assert_int_equal(fit_model_write_obj(model, NULL, "/nonexistent-dir/x.obj"), -FIT_ERR_IO);
 }
 
 int main(void)

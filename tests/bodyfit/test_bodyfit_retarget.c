@@ -167,7 +167,7 @@ static void test_retarget_refuses_a_skeleton_without_limbs(void **state)
     fit_bvh *b = NULL;
     fit_clip *c = (fit_clip *)1;
     assert_int_equal(fit_bvh_parse(text, sizeof text - 1, "head.bvh", &b, err, sizeof err), 0);
-    assert_int_equal(fit_clip_from_bvh(b, model, &c, err, sizeof err), FIT_ERR_ARG);
+    assert_int_equal(fit_clip_from_bvh(b, model, &c, err, sizeof err), -FIT_ERR_ARG);
     assert_null(c);
     assert_non_null(strstr(err, "no joint of the clip matches the model's"));
     fit_bvh_destroy(b);

@@ -101,10 +101,10 @@ static void test_jacobian_refuses_bad_arguments(void **state)
     (void)state;
     fit_pose pose = {0};
     double jac[3 * FIT_POSE_PARAMS];
-    assert_int_equal(fit_vertex_jacobian(model, &pose, -1, NULL, jac), FIT_ERR_ARG);
+    assert_int_equal(fit_vertex_jacobian(model, &pose, -1, NULL, jac), -FIT_ERR_ARG);
     assert_int_equal(fit_vertex_jacobian(model, &pose, fit_model_vertex_count(model), NULL, jac),
-                     FIT_ERR_ARG);
-    assert_int_equal(fit_vertex_jacobian(NULL, &pose, 0, NULL, jac), FIT_ERR_ARG);
+                     -FIT_ERR_ARG);
+    assert_int_equal(fit_vertex_jacobian(NULL, &pose, 0, NULL, jac), -FIT_ERR_ARG);
 }
 
 /* A step of zero leaves the pose as it was; a step on the root moves it by that much. */

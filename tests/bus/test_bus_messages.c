@@ -144,7 +144,7 @@ static void test_channel_name_too_long_is_refused(void **state)
 {
     (void)state;
     char small[4];
-    assert_int_equal(bus_channel(BUS_CHANNEL_DEPTH, small, sizeof small), -1);
+    assert_int_equal(bus_channel(BUS_CHANNEL_DEPTH, small, sizeof small), -BUS_ERR_STRING);
 }
 
 static void test_bad_url_gives_a_reason(void **state)

@@ -134,6 +134,27 @@ static void test_text_advances_and_clips(void **state)
     assert_int_equal(mirror_text(img, 40, 12, 1000, -50, 3, "xyz~", white), 4 * 3 * MIRROR_FONT_W);
 }
 
+/* Failures are named codes from one list (docs/building.md, "Conventions: errors"). */
+static void test_failures_are_named(void **state)
+{
+    (void)state;
+    const float xyz[9] = {0, 0, 1, 0.1f, 0, 1, 0, 0.1f, 1};
+    const int32_t tris[3] = {0, 1, 3}; /* vertex 3 of 3 */
+    const mirror_mesh m = {.xyz = xyz, .nv = 3, .tris = tris, .nt = 1};
+    const float rgba[4] = {1, 1, 1, 1};
+    mirror_cpu_mesh out = {0};
+    assert_int_equal(mirror_world_mesh(&m, rgba, 0, &out), -MIRROR_ERR_MESH);
+    mirror_cpu_mesh_free(&out);
+    const uint8_t rgb[3] = {0};
+    char err[256] = "";
+    int rc = mirror_png_write("/nonexistent-dir/x.png", rgb, 1, 1, err, sizeof err);
+    assert_int_equal(rc, -MIRROR_ERR_IO);
+    assert_string_equal(mirror_error_name(rc), "MIRROR_ERR_IO");
+    assert_string_equal(mirror_error_text(MIRROR_ERR_IO), "file cannot be written");
+    assert_non_null(strstr(err, "/nonexistent-dir/x.png"));
+    assert_string_equal(mirror_error_name(MIRROR_ERROR_COUNT), "MIRROR_ERR_UNKNOWN");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -143,6 +164,7 @@ int main(void)
         cmocka_unit_test(test_world_points_land_on_the_mirrored_pixel),
         cmocka_unit_test(test_occlusion_margin_follows_kinect_noise),
         cmocka_unit_test(test_text_advances_and_clips),
+        cmocka_unit_test(test_failures_are_named),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -45,7 +45,7 @@ static void synth(const char *dir, const char *motion, int frames, int noise, ui
                         .seed = seed,
                         .target_vertices = SMALL_MESH};
     rec_report why;
-    rec_error e = rec_synth(&d, &why);
+    int e = rec_synth(&d, &why);
     if (e != REC_OK)
         fail_msg("rec_synth: %s", why.message);
 }
@@ -143,11 +143,11 @@ static void test_motion_names_and_bad_arguments(void **state)
     assert_int_equal(n, FIT_MOTION_COUNT + 1);
     rec_report why;
     rec_synth_desc d = {.out_dir = dir_a, .motion = "moonwalk", .frames = 1};
-    assert_int_equal(rec_synth(&d, &why), REC_ERR_ARG);
+    assert_int_equal(rec_synth(&d, &why), -REC_ERR_ARG);
     assert_non_null(strstr(why.message, "moonwalk"));
     d.motion = "still";
     d.shape = 7;
-    assert_int_equal(rec_synth(&d, &why), REC_ERR_ARG);
+    assert_int_equal(rec_synth(&d, &why), -REC_ERR_ARG);
 }
 
 /* A motion-capture clip: recorded as its retargeted poses, named by its file; a file that is no
@@ -183,7 +183,7 @@ static void test_motion_capture_clip_is_recorded(void **state)
     fit_bvh_destroy(b);
     fit_model_destroy(m);
     rec_synth_desc d = {.out_dir = dir_b, .motion = "/nonexistent/walk.bvh", .frames = 1};
-    assert_int_equal(rec_synth(&d, &why), REC_ERR_ARG);
+    assert_int_equal(rec_synth(&d, &why), -REC_ERR_ARG);
     assert_non_null(strstr(why.message, "/nonexistent/walk.bvh"));
 }
 

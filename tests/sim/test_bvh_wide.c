@@ -12,6 +12,8 @@
 #include <cmocka.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 #include "test_collide_util.h"
 
 #define CLOSEST_CASES 20000

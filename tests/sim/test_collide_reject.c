@@ -28,7 +28,7 @@ static void expect_rejected(const float *xyz, int nv, const int32_t *tris, int n
 {
     sim_collider *c = make();
     assert_int_equal(sim_collider_set_body(c, xyz, nv, tris, nt), code);
-    assert_string_not_equal(sim_collide_error_str(code), "unknown collide error");
+    assert_string_not_equal(sim_error_text(code), "unknown error");
     /* The last good body is kept: a point 1 cm above triangle 0 still finds it. */
     const float(*v)[4], (*vp)[4], (*n)[4];
     const int32_t(*t)[4];
@@ -45,25 +45,25 @@ static void test_collide_rejects_bad_bodies_by_name(void **state)
     float bad[12];
     memcpy(bad, good, sizeof bad);
     bad[4] = NAN;
-    expect_rejected(bad, 4, good_tris, 2, SIM_COLLIDE_ENAN);
+    expect_rejected(bad, 4, good_tris, 2, -SIM_ERR_NOT_FINITE);
     bad[4] = INFINITY;
-    expect_rejected(bad, 4, good_tris, 2, SIM_COLLIDE_ENAN);
+    expect_rejected(bad, 4, good_tris, 2, -SIM_ERR_NOT_FINITE);
     int32_t out_of_range[6] = {0, 2, 1, 0, 1, 4};
-    expect_rejected(good, 4, out_of_range, 2, SIM_COLLIDE_EINDEX);
+    expect_rejected(good, 4, out_of_range, 2, -SIM_ERR_INDEX);
     int32_t negative[6] = {0, 2, 1, -1, 1, 3};
-    expect_rejected(good, 4, negative, 2, SIM_COLLIDE_EINDEX);
+    expect_rejected(good, 4, negative, 2, -SIM_ERR_INDEX);
     int32_t repeated[6] = {0, 2, 1, 0, 0, 3};
-    expect_rejected(good, 4, repeated, 2, SIM_COLLIDE_EDEGENERATE);
+    expect_rejected(good, 4, repeated, 2, -SIM_ERR_DEGENERATE);
     float collinear[12] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0};
     int32_t line[6] = {0, 1, 2, 0, 1, 3};
-    expect_rejected(collinear, 4, line, 2, SIM_COLLIDE_EDEGENERATE);
-    expect_rejected(good, 0, good_tris, 0, SIM_COLLIDE_EEMPTY);
-    expect_rejected(good, 4, good_tris, 0, SIM_COLLIDE_EEMPTY);
-    expect_rejected(NULL, 4, good_tris, 2, SIM_COLLIDE_EARG);
-    expect_rejected(good, -1, good_tris, 2, SIM_COLLIDE_EARG);
+    expect_rejected(collinear, 4, line, 2, -SIM_ERR_DEGENERATE);
+    expect_rejected(good, 0, good_tris, 0, -SIM_ERR_EMPTY);
+    expect_rejected(good, 4, good_tris, 0, -SIM_ERR_EMPTY);
+    expect_rejected(NULL, 4, good_tris, 2, -SIM_ERR_ARG);
+    expect_rejected(good, -1, good_tris, 2, -SIM_ERR_ARG);
     float big[15] = {0};
     int32_t big_tris[9] = {0, 1, 2, 0, 1, 3, 0, 1, 4};
-    expect_rejected(big, 5, big_tris, 3, SIM_COLLIDE_ETOO_BIG);
+    expect_rejected(big, 5, big_tris, 3, -SIM_ERR_TOO_LARGE);
 }
 
 static void test_collide_create_rejects_bad_description(void **state)
@@ -79,7 +79,7 @@ static void test_collide_create_rejects_bad_description(void **state)
         &(sim_collider_desc){.max_vertices = 3, .max_triangles = 1, .friction = -1.0f}, err,
         sizeof err));
     sim_collider_destroy(NULL);
-    assert_string_equal(sim_collide_error_str(12345), "unknown collide error");
+    assert_string_equal(sim_error_text(12345), "unknown error");
 }
 
 /* Empty cloth, NULL arrays, an empty metric: no crash, sane answers. */
@@ -101,9 +101,8 @@ static void test_collide_empty_inputs_are_harmless(void **state)
     /* No contact cache reserved: find_contacts and resolve ignore the points. */
     sim_collider_find_contacts(c, (const float(*)[4])x, 0, 1);
     sim_collider_resolve(c, x, xp, 0, 1);
-    assert_int_equal(sim_collider_penetration(c, NULL, 1, 0.001f, &count, &depth),
-                     SIM_COLLIDE_EARG);
-    assert_int_equal(sim_collider_reserve(c, -1), SIM_COLLIDE_EARG);
+    assert_int_equal(sim_collider_penetration(c, NULL, 1, 0.001f, &count, &depth), -SIM_ERR_ARG);
+    assert_int_equal(sim_collider_reserve(c, -1), -SIM_ERR_ARG);
     assert_int_equal(sim_collider_reserve(c, 8), 0);
     sim_collider_destroy(c);
 }

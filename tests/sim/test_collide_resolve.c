@@ -10,6 +10,8 @@
 #include <cmocka.h>
 
 #include "collide.h"
+#include "collide_bvh.h"
+#include "collide_geometry.h"
 #include "test_collide_util.h"
 
 #define THICK 0.004f

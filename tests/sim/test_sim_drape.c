@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "cloth.h"
+#include "passes.h"
 #include "sim_test_util.h"
 
 /* Bounds of the tall hanging sheet (limit 1 %; see the test) */

@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "cloth.h"
+#include "passes.h"
 #include "sim_test_util.h"
 
 /* Verlet from rest under gravity: x_n = x_0 - g dt^2 n (n + 1) / 2 (each step adds one more

@@ -14,6 +14,7 @@
 
 #include "cloth.h"
 #include "collide.h"
+#include "collide_geometry.h"
 #include "sim_test_util.h"
 
 /* the bench's body; the shirt at test size (the 7,000-vertex shirt's figures hold at it) */

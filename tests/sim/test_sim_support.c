@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "cloth.h"
+#include "passes.h"
 #include "sim_test_util.h"
 
 /* The drape of the test (24 x 24 over the sphere), worst frame of its last half second, with the
