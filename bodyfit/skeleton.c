@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "tryon_errors.h"
+
 #define FIT_PI 3.14159265358979f
 /* Rest A-pose: arms this far from hanging straight down, so they clear the torso. */
 #define BODY_ARM_ANGLE (45.0f * FIT_PI / 180.0f)
@@ -33,24 +35,8 @@ int fit_joint_parent(fit_joint j)
     return (j >= 0 && j < FIT_JOINT_COUNT) ? joint_parents[j] : -1;
 }
 
-#define FIT_ERROR_NAME(id, msg) #id,
-#define FIT_ERROR_TEXT(id, msg) msg,
-static const char *const error_names[] = {FIT_ERROR_LIST(FIT_ERROR_NAME)};
-static const char *const error_texts[] = {FIT_ERROR_LIST(FIT_ERROR_TEXT)};
-#undef FIT_ERROR_NAME
-#undef FIT_ERROR_TEXT
-
-const char *fit_error_name(int code)
-{
-    code = code < 0 ? -code : code;
-    return code < FIT_ERROR_COUNT ? error_names[code] : "FIT_ERR_UNKNOWN";
-}
-
-const char *fit_error_string(int code)
-{
-    code = code < 0 ? -code : code;
-    return code < FIT_ERROR_COUNT ? error_texts[code] : "unknown error";
-}
+TRYON_ERROR_WORDS(FIT_ERROR_LIST, FIT_ERROR_COUNT, fit_error_name, fit_error_string,
+                  "FIT_ERR_UNKNOWN")
 
 /* Limits in the anatomical frame, radians, {x lo, y lo, z lo}, {x hi, y hi, z hi}. x is the
  * flexion hinge, y the twist about the bone, z abduction. Left side; the right mirrors y, z. */

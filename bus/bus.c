@@ -7,6 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "tryon_errors.h"
+
 int bus_channel(const char *base, char *out, size_t out_size)
 {
     const char *prefix = getenv("TRYON_CHANNEL_PREFIX");
@@ -59,32 +61,8 @@ int64_t bus_now_wall_us(void)
     return clock_us(CLOCK_REALTIME);
 }
 
-#define BUS_ERROR_NAME(id, text) #id,
-#define BUS_ERROR_TEXT(id, text) text,
-static const char *const error_names[] = {BUS_ERROR_LIST(BUS_ERROR_NAME)};
-static const char *const error_texts[] = {BUS_ERROR_LIST(BUS_ERROR_TEXT)};
-
-const char *bus_error_name(int e)
-{
-    e = e < 0 ? -e : e;
-    return (e >= 0 && e < BUS_ERROR_COUNT) ? error_names[e] : "BUS_ERR_UNKNOWN";
-}
-
-const char *bus_error_text(int e)
-{
-    e = e < 0 ? -e : e;
-    return (e >= 0 && e < BUS_ERROR_COUNT) ? error_texts[e] : "unknown error";
-}
+TRYON_ERROR_WORDS(BUS_ERROR_LIST, BUS_ERROR_COUNT, bus_error_name, bus_error_text,
+                  "BUS_ERR_UNKNOWN")
 
 /* Here beside the names, not in wire.c: wire.c calls validate.c, which reports through this. */
-int bus_reject_set(bus_reject *why, bus_error code, const char *fmt, ...)
-{
-    if (why) {
-        why->code = code;
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
-        va_end(ap);
-    }
-    return -(int)code;
-}
+TRYON_REJECT_SETTER(bus_reject_set, bus_reject, bus_error)

@@ -5,25 +5,10 @@
 
 #include "capture.h"
 #include "cap_private.h"
+#include "tryon_errors.h"
 
-#define CAP_ERROR_NAME(id, text) #id,
-static const char *const error_names[] = {CAP_ERROR_LIST(CAP_ERROR_NAME)};
-#undef CAP_ERROR_NAME
-#define CAP_ERROR_TEXT(id, text) text,
-static const char *const error_texts[] = {CAP_ERROR_LIST(CAP_ERROR_TEXT)};
-#undef CAP_ERROR_TEXT
-
-const char *cap_error_name(int e)
-{
-    e = e < 0 ? -e : e;
-    return (unsigned)e < CAP_ERROR_COUNT ? error_names[e] : "CAP_ERR_UNKNOWN";
-}
-
-const char *cap_error_text(int e)
-{
-    e = e < 0 ? -e : e;
-    return (unsigned)e < CAP_ERROR_COUNT ? error_texts[e] : "unknown error";
-}
+TRYON_ERROR_WORDS(CAP_ERROR_LIST, CAP_ERROR_COUNT, cap_error_name, cap_error_text,
+                  "CAP_ERR_UNKNOWN")
 
 static const cap_source_api *const sources[] = {&cap_freenect_api, &cap_openni2_api};
 #define SOURCE_COUNT (int)(sizeof sources / sizeof sources[0])

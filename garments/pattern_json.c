@@ -8,6 +8,7 @@
 
 #include "garments.h"
 #include "pattern_internal.h"
+#include "tryon_errors.h"
 
 /* A pattern file larger than this is not a sewing pattern (the data sets' are under 100 KB). */
 #define GAR_MAX_FILE_BYTES (16 * 1024 * 1024)
@@ -15,40 +16,9 @@
  * about 1). */
 #define GAR_MAX_RELATIVE 100.0
 
-static const char *const error_names[] = {
-#define GAR_ERROR_NAME(id, text) #id,
-    GAR_ERROR_LIST(GAR_ERROR_NAME)
-#undef GAR_ERROR_NAME
-};
-static const char *const error_texts[] = {
-#define GAR_ERROR_TEXT(id, text) text,
-    GAR_ERROR_LIST(GAR_ERROR_TEXT)
-#undef GAR_ERROR_TEXT
-};
-
-const char *gar_error_name(int e)
-{
-    e = e < 0 ? -e : e;
-    return e < GAR_ERROR_COUNT ? error_names[e] : "GAR_ERR_UNKNOWN";
-}
-
-const char *gar_error_text(int e)
-{
-    e = e < 0 ? -e : e;
-    return e < GAR_ERROR_COUNT ? error_texts[e] : "unknown error";
-}
-
-int gar_refuse(gar_reject *why, gar_error code, const char *fmt, ...)
-{
-    if (why) {
-        why->code = code;
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(why->detail, sizeof why->detail, fmt, ap);
-        va_end(ap);
-    }
-    return -(int)code;
-}
+TRYON_ERROR_WORDS(GAR_ERROR_LIST, GAR_ERROR_COUNT, gar_error_name, gar_error_text,
+                  "GAR_ERR_UNKNOWN")
+TRYON_REJECT_SETTER(gar_refuse, gar_reject, gar_error)
 
 static int read_number(const cJSON *j, double *out)
 {

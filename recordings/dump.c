@@ -10,25 +10,10 @@
 
 #include "recordings.h"
 #include "rec_private.h"
+#include "tryon_errors.h"
 
-#define REC_ERROR_NAME(id, text) #id,
-static const char *const error_names[] = {REC_ERROR_LIST(REC_ERROR_NAME)};
-#undef REC_ERROR_NAME
-#define REC_ERROR_TEXT(id, text) text,
-static const char *const error_texts[] = {REC_ERROR_LIST(REC_ERROR_TEXT)};
-#undef REC_ERROR_TEXT
-
-const char *rec_error_name(int e)
-{
-    e = e < 0 ? -e : e;
-    return (unsigned)e < REC_ERROR_COUNT ? error_names[e] : "REC_ERR_UNKNOWN";
-}
-
-const char *rec_error_text(int e)
-{
-    e = e < 0 ? -e : e;
-    return (unsigned)e < REC_ERROR_COUNT ? error_texts[e] : "unknown error";
-}
+TRYON_ERROR_WORDS(REC_ERROR_LIST, REC_ERROR_COUNT, rec_error_name, rec_error_text,
+                  "REC_ERR_UNKNOWN")
 
 int rec_fail(rec_report *why, rec_error code, const char *file, int frame, int line,
              const char *fmt, ...)
