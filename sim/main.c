@@ -54,7 +54,7 @@ typedef struct app {
     int verts, frames_wanted, frames_done, skipped, triangles_every;
     float hem_m;    /* the generated shirt's hem below the pelvis joint (0: sim_garment_shirt's) */
     int every_body; /* --queue all: simulate every body; else only the newest one */
-    int backend_auto;    /* --backend auto (the default): OpenCL on a GPU, else C (auto_backend) */
+    int backend_auto;    /* --backend auto (the default), until decided (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* arrived while a newer one was waiting: not simulated */
     pending_body next;
@@ -78,25 +78,38 @@ typedef struct app {
     FILE *stats;      /* --stats FILE: a CSV line of sim_frame_stats per simulated body */
 } app;
 
-/* --backend auto: the OpenCL backend where the device it would open is a GPU or TRYON_CL_DEVICE
-   names one, the C backend otherwise: on a machine without a GPU the OpenCL device is a CPU
-   (PoCL), where the C backend is 4-5x faster on the same cores (docs/sim.md, the headline). */
-static void auto_backend(app *a)
+/* --backend auto: where the device OpenCL would open is a GPU, the faster backend on the first
+   garment, measured (sim_backend_race: 6 frames on the first body, about 0.1 s) and kept for the
+   session; where TRYON_CL_DEVICE names a device, OpenCL; otherwise C: on a machine without a GPU
+   the OpenCL device is a CPU (PoCL), where the C backend is 4-5x faster on the same cores
+   (docs/sim.md, the headline). */
+static void auto_backend(app *a, const sim_garment *g, const pending_body *b,
+                         const sim_topology *topo)
 {
     char name[256];
     int gpu = sim_opencl_device(name, sizeof name);
     const char *want = getenv("TRYON_CL_DEVICE");
-    if (gpu == 1 || (want && *want && gpu >= 0)) {
+    a->desc.backend = SIM_BACKEND_C;
+    if (want && *want && gpu >= 0) {
         a->desc.backend = SIM_BACKEND_OPENCL;
         return;
     }
-    a->desc.backend = SIM_BACKEND_C;
-    if (gpu == 0)
+    double ms[2];
+    sim_backend pick;
+    if (gpu == 1 &&
+        sim_backend_race(&a->desc, g, b->xyz, b->nv, topo->tris, topo->nt, 6, &pick, ms) == 0) {
+        a->desc.backend = pick;
+        a->backend_auto = 0; /* measured once: the session keeps it */
+        fprintf(stderr,
+                "tryon-sim: --backend auto: %.1f ms a frame on C, %.1f on OpenCL (%s): the %s "
+                "backend\n",
+                ms[0], ms[1], name, pick == SIM_BACKEND_C ? "C" : "OpenCL");
+    } else if (gpu == 0)
         fprintf(stderr,
                 "tryon-sim: the OpenCL device, %s, is not a GPU: the C backend, faster there "
                 "(--backend opencl to use it anyway)\n",
                 name);
-    else
+    else if (gpu < 0)
         fprintf(stderr, "tryon-sim: no OpenCL device (%s): the C backend\n", name);
 }
 
@@ -127,7 +140,7 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     }
     a->desc.fabric = a->outfit.fabric;
     if (a->backend_auto)
-        auto_backend(a);
+        auto_backend(a, &g, b, topo);
     a->sim = sim_create(&a->desc, &g, &why);
     if (!a->sim && why.code == SIM_ERR_BACKEND && a->desc.backend == SIM_BACKEND_OPENCL) {
         fprintf(stderr, "tryon-sim: %s; falling back to the C backend\n", why.detail);
@@ -411,8 +424,9 @@ static int usage(FILE *f, int rc)
             "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
             "          strain retries, iterations, feature points moved, max strain, max\n"
             "          penetration mm, iterations ms, total ms)\n"
-            "  --backend auto (default): OpenCL where its device is a GPU (or TRYON_CL_DEVICE\n"
-            "          names a device), else C; opencl falls back to C when no device opens\n"
+            "  --backend auto (default): where the OpenCL device is a GPU, the faster of C and\n"
+            "          OpenCL on the first garment, measured; OpenCL where TRYON_CL_DEVICE names\n"
+            "          a device; else C. opencl falls back to C when no device opens\n"
             "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
             "          newest is simulated and the older ones are counted as superseded, so\n"
             "          latency stays one frame; all: every body, in order (replays, tests)\n"

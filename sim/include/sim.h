@@ -203,6 +203,12 @@ const char *sim_device_name(const sim *s);  /* "C reference (2 threads)", the Op
    name, or why there is none. For choosing a backend: on 2 CPU cores the C backend is 4-5x faster
    than the OpenCL one on PoCL (docs/sim.md). */
 int sim_opencl_device(char *name, size_t name_size);
+/* Which backend runs this garment faster here, measured (--backend auto on a GPU): `frames`
+ * frames (2..1000) of the garment on the still body on each backend, the first not timed (the
+ * OpenCL program's build and upload); ms[0] the C backend's median frame, ms[1] OpenCL's (-1: it
+ * did not run the garment); *out the faster. Returns 0, or -SIM_ERR_BACKEND when neither ran it. */
+int sim_backend_race(const sim_desc *desc, const sim_garment *g, const float *body_xyz, int nv,
+                     const int32_t *body_tris, int nt, int frames, sim_backend *out, double ms[2]);
 const sim_desc *sim_get_desc(const sim *s);
 
 /* Replace the cloth state (xyz: [vertex][3], at rest: previous = current), e.g. to restart a
