@@ -125,3 +125,12 @@ static inline int sim_vertices_open(int b, int rep, const sim_solver_params *p)
 {
     return b == SIM_BLOCK_STEPS ? rep == p->iters - 1 : b == SIM_BLOCK_POST && rep < p->post_rounds;
 }
+
+/* SIM_STAGE_SETTLE_TEST's decision, 1 to stop the settle rounds: the largest stretch strain m is
+   within the settle goal, or, in a frame that does not refresh its contacts, the last batch did
+   not take enough off it (prev: the test before; first: this is the frame's first test). */
+static inline int sim_settle_stop(float m, float prev, int first, int refresh,
+                                  const sim_solver_params *p)
+{
+    return !(m > p->settle_strain) || (!refresh && !first && !(m < p->settle_progress * prev));
+}

@@ -249,6 +249,77 @@ void sim_strain_sweep(__global float4 *x, __global const int2 *ends, __global co
     }
 }
 
+/* Spring s's stretch strain for the settle test: stretch springs only (0 for the others), NaN
+   as infinity. */
+float sim_settle_strain_one(__global const float4 *x, __global const int2 *ends,
+                            __global const float *rest, __global const uchar *kind, int s)
+{
+    if (kind[s] != 0 || !(rest[s] > 0.0f))
+        return 0.0f;
+    float4 a = x[ends[s].x], c = x[ends[s].y];
+    float dx = c.x - a.x, dy = c.y - a.y, dz = c.z - a.z;
+    float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
+    return e == e ? e : INFINITY;
+}
+
+/* The support hierarchy (SIM_STAGE_SUPPORT) in one work-group: the highest resting vertex is the
+   root, then breadth first, level by level, each level pulled towards the level before. key,
+   root and count are the group's __local ints. */
+void sim_support_group(__global float4 *x, __global float4 *x_prev, int nv,
+                       __global const int2 *ends, __global const float *rest,
+                       __global const int *contact, __global const float4 *v,
+                       __global const int4 *tris, __global const float4 *nrm, float h,
+                       float rest_tol, float limit, __global const int *adj_start,
+                       __global const int *adj_spring, __global int *level, __global int *front,
+                       __local int *support_key, __local int *support_root,
+                       __local int *support_count)
+{
+    int lid = get_local_id(0), L = get_local_size(0);
+    if (lid == 0) {
+        *support_key = INT_MIN;
+        *support_root = INT_MAX;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    for (int i = lid; i < nv; i += L) {
+        level[i] = -1;
+        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f)
+            atomic_max(support_key, sim_float_order(x[i].y));
+    }
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    for (int i = lid; i < nv; i += L) {
+        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f &&
+            sim_float_order(x[i].y) == *support_key)
+            atomic_min(support_root, i);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    int root = *support_root, n = root == INT_MAX ? 0 : 1;
+    if (lid == 0 && n) {
+        level[root] = 0;
+        front[0] = root;
+    }
+    for (int l = 0; n > 0; l++) {
+        __global int *cur = front + (l & 1) * nv, *next = front + (~l & 1) * nv;
+        if (lid == 0)
+            *support_count = 0;
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+        for (int f = lid; f < n; f += L) {
+            int i = cur[f];
+            for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
+                int sp = adj_spring[k];
+                int u = ends[sp].x == i ? ends[sp].y : ends[sp].x;
+                if (atomic_cmpxchg((volatile __global int *)&level[u], -1, l + 1) == -1)
+                    next[atomic_inc(support_count)] = u;
+            }
+        }
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+        n = *support_count;
+        for (int f = lid; f < n; f += L)
+            sim_support_pull_one(x, x_prev, ends, rest, adj_start, adj_spring, level, next[f],
+                                 limit);
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    }
+}
+
 /* The tryon solver's iterations of one frame in one work-group: the stages of the frame's list
    (kernels/solver_params.h) after the first two, which the host runs as commands of their own,
    as sim/solver_c.c runs them, a barrier after each pass. The settings in p
@@ -275,7 +346,6 @@ __kernel void sim_iterations_tryon(
               iters = p.iters, contact_every = p.contact_every, nleaves = p.nleaves, natt = p.natt,
               hier_levels = p.hier_levels, settle_batch = p.settle_batch;
     const float limit = p.limit, keep = p.keep, radius = p.radius, h = p.h, mu = p.mu,
-                settle_progress = p.settle_progress, settle_strain = p.settle_strain,
                 rest_tol = p.rest_tol;
     const float4 alpha = (float4)(p.alpha[0], p.alpha[1], p.alpha[2], 0.0f);
     const float4 g = (float4)(p.g[0], p.g[1], p.g[2], 0.0f);
@@ -342,53 +412,11 @@ __kernel void sim_iterations_tryon(
                         barrier(CLK_GLOBAL_MEM_FENCE);
                     }
                     break;
-                case SIM_STAGE_SUPPORT: {
-                    if (lid == 0) {
-                        support_key = INT_MIN;
-                        support_root = INT_MAX;
-                    }
-                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                    for (int i = lid; i < nv; i += L) {
-                        level[i] = -1;
-                        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f)
-                            atomic_max(&support_key, sim_float_order(x[i].y));
-                    }
-                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                    for (int i = lid; i < nv; i += L) {
-                        if (sim_resting_one(x, i, contact, v, tris, nrm, h, rest_tol) > 0.0f &&
-                            sim_float_order(x[i].y) == support_key)
-                            atomic_min(&support_root, i);
-                    }
-                    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                    int root = support_root, n = root == INT_MAX ? 0 : 1;
-                    if (lid == 0 && n) {
-                        level[root] = 0;
-                        front[0] = root;
-                    }
-                    for (int l = 0; n > 0; l++) {
-                        __global int *cur = front + (l & 1) * nv, *next = front + (~l & 1) * nv;
-                        if (lid == 0)
-                            support_count = 0;
-                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                        for (int f = lid; f < n; f += L) {
-                            int i = cur[f];
-                            for (int k = adj_start[i]; k < adj_start[i + 1]; k++) {
-                                int sp = adj_spring[k];
-                                int u = ends[sp].x == i ? ends[sp].y : ends[sp].x;
-                                if (atomic_cmpxchg((volatile __global int *)&level[u], -1, l + 1) ==
-                                    -1)
-                                    next[atomic_inc(&support_count)] = u;
-                            }
-                        }
-                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                        n = support_count;
-                        for (int f = lid; f < n; f += L)
-                            sim_support_pull_one(x, x_prev, ends, rest, adj_start, adj_spring,
-                                                 level, next[f], limit);
-                        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-                    }
+                case SIM_STAGE_SUPPORT:
+                    sim_support_group(x, x_prev, nv, ends, rest, contact, v, tris, nrm, h, rest_tol,
+                                      limit, adj_start, adj_spring, level, front, &support_key,
+                                      &support_root, &support_count);
                     break;
-                }
                 case SIM_STAGE_SETTLE_TEST: {
                     /* the largest stretch strain: the same float as C's (non-negative floats
                        order as their bits), so is the branch */
@@ -397,21 +425,14 @@ __kernel void sim_iterations_tryon(
                     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
                     float m = 0.0f;
                     for (int s = lid; s < nstretch; s += L) {
-                        if (kind[s] != 0 || !(rest[s] > 0.0f)) /* stretch only */
-                            continue;
-                        float4 a = x[ends[s].x], c = x[ends[s].y];
-                        float dx = c.x - a.x, dy = c.y - a.y, dz = c.z - a.z;
-                        float e = (sqrt(dx * dx + dy * dy + dz * dz) - rest[s]) / rest[s];
-                        if (!(e == e))
-                            e = INFINITY;
+                        float e = sim_settle_strain_one(x, ends, rest, kind, s);
                         if (e > m)
                             m = e;
                     }
                     atomic_max(&settle_max, as_int(m));
                     barrier(CLK_LOCAL_MEM_FENCE);
                     float mx = as_float(settle_max);
-                    if (!(mx > settle_strain) ||
-                        (contact_every == 0 && rep > 0 && !(mx < settle_progress * prev)))
+                    if (sim_settle_stop(mx, prev, rep == 0, contact_every > 0, &p))
                         stop = 1;
                     prev = mx;
                     break;
@@ -438,4 +459,128 @@ __kernel void sim_solver_params_layout(__global int *out)
     sim_solver_params p;
     out[0] = (int)sizeof(sim_solver_params);
     out[1] = (int)((__private char *)&p.rest_tol - (__private char *)&p);
+}
+
+/* ---- The frame pass by pass, for a GPU (sim/cl_backend.c, cl_passes) ----------------------------
+ * The host walks sim_frame_stages as sim_iterations_tryon does and launches each pass over as many
+ * work-groups as it has items: one work-group is one of a GPU's multiprocessors (on the lent H100
+ * 1 of 132: the 7,000-vertex shirt 8-11 ms a frame), where a launch costs a few microseconds. Each
+ * pass is the same _one function as in sim_iterations_tryon; a colour's springs share no vertex,
+ * so the order within a pass does not change the result. */
+
+/* SIM_STAGE_STEP of step rep: contacts refreshed, Verlet, the attachments placed (item i: vertex i
+   and attachment i). */
+__kernel void sim_pass_step(const sim_solver_params p, int rep, __global float4 *x,
+                            __global float4 *x_prev, __global const int2 *child,
+                            __global const int *order, __global const float4 *lo,
+                            __global const float4 *hi, __global const float4 *v,
+                            __global const int4 *tris, __global int *contact,
+                            __global const sim_attachment *att, __global const float4 *att_from,
+                            __global const float4 *att_to)
+{
+    int i = get_global_id(0);
+    if (i < p.nv) {
+        if (p.contact_every > 0 && rep > 0 && rep % p.contact_every == 0)
+            contact[i] =
+                sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
+        sim_verlet_one(x, x_prev, i, p.keep, (float4)(p.g[0], p.g[1], p.g[2], 0.0f));
+    }
+    if (i < p.natt)
+        sim_place_attachment(x, x_prev, att, att_from, att_to, i, rep, p.iters);
+}
+
+/* SIM_STAGE_SPRINGS, one colour: springs [begin, end). */
+__kernel void sim_pass_springs(const sim_solver_params p, int begin, int end, __global float4 *x,
+                               __global const int2 *ends, __global const float *rest,
+                               __global const uchar *kind)
+{
+    int s = begin + (int)get_global_id(0);
+    if (s < end)
+        sim_project_spring(x, ends, rest, kind, (float4)(p.alpha[0], p.alpha[1], p.alpha[2], 0.0f),
+                           s);
+}
+
+/* SIM_STAGE_SWEEP, one stretch colour: springs [begin, end). */
+__kernel void sim_pass_strain(const sim_solver_params p, int begin, int end, __global float4 *x,
+                              __global const int2 *ends, __global const float *rest,
+                              __global const uchar *kind)
+{
+    int s = begin + (int)get_global_id(0);
+    if (s < end)
+        sim_strain_limit_one(x, ends, rest, kind, s, p.limit);
+}
+
+/* SIM_STAGE_VERTICES: tethers, the bracket closed (close), the contact response, opened (open). */
+__kernel void sim_pass_vertices(const sim_solver_params p, int close, int open, __global float4 *x,
+                                __global float4 *x_prev, __global const int *tether_anchor,
+                                __global const float *tether_len, __global const int *contact,
+                                __global const float4 *v, __global const int4 *tris,
+                                __global const float4 *nrm, __global const int4 *nbr,
+                                __global const int *vt_start, __global const int *vt_list)
+{
+    int i = get_global_id(0);
+    if (i >= p.nv)
+        return;
+    sim_tether_one(x, tether_anchor, tether_len, i, p.limit);
+    if (close)
+        sim_post_end_one(x, x_prev, i);
+    sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, p.h, p.mu);
+    if (open)
+        sim_post_begin_one(x, x_prev, i);
+}
+
+/* SIM_STAGE_HIERARCHY, one level: entries [begin, end). */
+__kernel void sim_pass_hierarchy(const sim_solver_params p, int begin, int end, __global float4 *x,
+                                 __global float4 *x_prev, __global const int *hier_vertex,
+                                 __global const int *hier_parent_start,
+                                 __global const int *hier_parent, __global const float *hier_rest)
+{
+    int e = begin + (int)get_global_id(0);
+    if (e < end)
+        sim_strain_hierarchy_one(x, x_prev, hier_vertex, hier_parent_start, hier_parent, hier_rest,
+                                 e, p.limit);
+}
+
+/* SIM_STAGE_SUPPORT: breadth first, so in one work-group (sim_support_group). */
+__kernel void sim_pass_support(const sim_solver_params p, __global float4 *x,
+                               __global float4 *x_prev, __global const int2 *ends,
+                               __global const float *rest, __global const int *contact,
+                               __global const float4 *v, __global const int4 *tris,
+                               __global const float4 *nrm, __global const int *adj_start,
+                               __global const int *adj_spring, __global int *level,
+                               __global int *front)
+{
+    __local int support_key, support_root, support_count;
+    sim_support_group(x, x_prev, p.nv, ends, rest, contact, v, tris, nrm, p.h, p.rest_tol, p.limit,
+                      adj_start, adj_spring, level, front, &support_key, &support_root,
+                      &support_count);
+}
+
+/* SIM_STAGE_SETTLE_TEST: the largest stretch strain of springs [0, n) into *max_bits (zeroed
+   by the host first; non-negative floats order as their bits), read back by the host. */
+__kernel void sim_pass_settle_test(int n, __global const float4 *x, __global const int2 *ends,
+                                   __global const float *rest, __global const uchar *kind,
+                                   __global int *max_bits)
+{
+    int s = get_global_id(0);
+    if (s < n) {
+        float e = sim_settle_strain_one(x, ends, rest, kind, s);
+        if (e > 0.0f)
+            atomic_max(max_bits, as_int(e));
+    }
+}
+
+/* SIM_STAGE_REOPEN before settle round rep. */
+__kernel void sim_pass_reopen(const sim_solver_params p, int rep, __global float4 *x,
+                              __global float4 *x_prev, __global const int2 *child,
+                              __global const int *order, __global const float4 *lo,
+                              __global const float4 *hi, __global const float4 *v,
+                              __global const int4 *tris, __global int *contact)
+{
+    int i = get_global_id(0);
+    if (i >= p.nv)
+        return;
+    if (rep == 0 && p.contact_every > 0)
+        contact[i] = sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
+    sim_post_begin_one(x, x_prev, i);
 }

@@ -19,6 +19,22 @@
    springs; larger groups only add barrier cost on a CPU device. */
 #define ITER_GROUP_MAX 1024
 
+/* The pass kernels of a frame run pass by pass (kernels/springs.cl, sim_pass_*). */
+typedef enum pass_kind {
+    PASS_STEP,
+    PASS_SPRINGS,
+    PASS_STRAIN,
+    PASS_VERTICES,
+    PASS_HIERARCHY,
+    PASS_SUPPORT,
+    PASS_SETTLE_TEST,
+    PASS_REOPEN,
+    PASS_KINDS
+} pass_kind;
+static const char *const pass_kernel_names[PASS_KINDS] = {
+    "sim_pass_step",      "sim_pass_springs", "sim_pass_strain",      "sim_pass_vertices",
+    "sim_pass_hierarchy", "sim_pass_support", "sim_pass_settle_test", "sim_pass_reopen"};
+
 typedef struct cl_state {
     sim_cl cl;
     sim_cl_collide g;
@@ -28,6 +44,10 @@ typedef struct cl_state {
     /* the support hierarchy: stretch springs by vertex (CSR), level per vertex, two lists of nv */
     cl_mem adj_start, adj_spring, level, front;
     cl_kernel k_iter, k_attach, k_follow;
+    /* the frame pass by pass (a GPU): kernels in sim_pass_kind order, the support's group size */
+    cl_kernel k_pass[PASS_KINDS];
+    int passes;
+    size_t support_group;
     size_t group;
     int32_t *moved;       /* host copy of the per-point flags */
     int32_t *contact;     /* host copy of the frame's contacts, for the host metric */
@@ -54,6 +74,9 @@ static void cl_destroy(void *state)
         clReleaseKernel(c->k_attach);
     if (c->k_follow)
         clReleaseKernel(c->k_follow);
+    for (int i = 0; i < PASS_KINDS; i++)
+        if (c->k_pass[i])
+            clReleaseKernel(c->k_pass[i]);
     if (c->att_from)
         clReleaseMemObject(c->att_from);
     if (c->att_to)
@@ -101,6 +124,36 @@ static int cl_upload(void *state, const struct sim *s)
         st = clEnqueueWriteBuffer(c->cl.queue, c->x_prev, CL_TRUE, 0, bytes, s->cloth.x_prev, 0,
                                   NULL, NULL);
     return st == CL_SUCCESS ? 0 : -SIM_ERR_BACKEND;
+}
+
+/* From this many cloth vertices up a GPU runs the frame pass by pass: on the lent H100 the body
+   scene's shirt at 2,079 / 4,180 / 5,124 / 7,105 vertices took 3.2 / 5.0 / 6.1 / 8.1 ms a frame in
+   one work-group and 5.6 / 5.6 / 5.9 / 5.5 pass by pass (docs/sim.md, "On a GPU"). */
+#define PASSES_MIN_VERTICES 5000
+
+/* Pass by pass on a GPU for a garment of PASSES_MIN_VERTICES or more (TRYON_CL_PASSES=1 or 0
+   says otherwise, e.g. to test the passes on PoCL): the pass kernels built and the support's
+   group sized. */
+static int pass_mode(cl_state *c, int nv, char *err, size_t err_size)
+{
+    const char *e = getenv("TRYON_CL_PASSES");
+    c->passes = e && (!strcmp(e, "0") || !strcmp(e, "1"))
+                    ? e[0] == '1'
+                    : c->cl.is_gpu && nv >= PASSES_MIN_VERTICES;
+    if (!c->passes)
+        return 0;
+    for (int i = 0; i < PASS_KINDS; i++)
+        if (!(c->k_pass[i] = sim_cl_kernel(&c->cl, pass_kernel_names[i], err, err_size)))
+            return -1;
+    size_t wg = 1;
+    cl_int st = clGetKernelWorkGroupInfo(c->k_pass[PASS_SUPPORT], c->cl.device,
+                                         CL_KERNEL_WORK_GROUP_SIZE, sizeof wg, &wg, NULL);
+    if (st != CL_SUCCESS) {
+        snprintf(err, err_size, "OpenCL backend: work-group size: %s", sim_cl_status_name(st));
+        return -1;
+    }
+    c->support_group = wg < ITER_GROUP_MAX ? wg : ITER_GROUP_MAX;
+    return 0;
 }
 
 static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
@@ -191,7 +244,10 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         goto fail;
     }
     c->group = wg < ITER_GROUP_MAX ? wg : ITER_GROUP_MAX;
-    snprintf(c->name, sizeof c->name, "OpenCL %s", c->cl.device_name);
+    if (pass_mode(c, k->nv, err, err_size) != 0)
+        goto fail;
+    snprintf(c->name, sizeof c->name, "OpenCL %s%s", c->cl.device_name,
+             c->passes ? ", pass by pass" : "");
     if (cl_upload(c, s) != 0) {
         snprintf(err, err_size, "OpenCL backend: uploading the cloth failed");
         goto fail;
@@ -250,18 +306,25 @@ static cl_int follow(cl_state *c, struct sim *s)
     return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
+/* The frame's settings as both backends read them (sim_solver_params_fill), with the contacts'
+   refresh and the body's leaves. */
+static void frame_params(const cl_state *c, const struct sim *s, int iters, sim_solver_params *p)
+{
+    const sim_cloth *k = &s->cloth;
+    sim_solver_params_fill(s, iters, p);
+    /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
+    /* on the host copy, which matches the device: feature points move x and x_prev together, so
+       they do not change the travel */
+    p->contact_every = sim_contact_every(sim_step_travel2(k, 0, k->nv), iters);
+    p->nleaves = c->g.nt;
+}
+
 /* The frame's iterations: the settings (sim_solver_params_fill, as the C backend reads them) by
    value, then the buffers in sim_iterations_tryon's order (kernels/springs.cl). */
 static cl_int iterations(cl_state *c, const struct sim *s, int iters)
 {
-    const sim_cloth *k = &s->cloth;
     sim_solver_params p;
-    sim_solver_params_fill(s, iters, &p);
-    /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
-    /* on the host copy, which matches the device: feature points move x and x_prev together, so
-       they do not change the travel */
-    p.contact_every = sim_contact_every(sim_step_travel2(k, 0, k->nv), iters);
-    p.nleaves = c->g.nt;
+    frame_params(c, s, iters, &p);
     const cl_mem bufs[] = {c->x,
                            c->x_prev,
                            c->ends,
@@ -302,6 +365,162 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
         return CL_INVALID_KERNEL_ARGS;
     size_t global = c->group, local = c->group;
     return clEnqueueNDRangeKernel(c->cl.queue, it, 1, NULL, &global, &local, 0, NULL, NULL);
+}
+
+/* Sets kernel k's arguments from first on to the n buffers in b. */
+static cl_int buffer_args(cl_kernel k, cl_uint first, const cl_mem *b, cl_uint n)
+{
+    cl_int st = CL_SUCCESS;
+    for (cl_uint i = 0; i < n; i++)
+        st |= clSetKernelArg(k, first + i, sizeof b[i], &b[i]);
+    return st;
+}
+
+/* The pass kernels' arguments for this frame: the settings, then the buffers (kernels/springs.cl,
+   sim_pass_*); the scalars after the settings are set per launch. */
+static cl_int pass_args(cl_state *c, const sim_solver_params *p)
+{
+    cl_kernel *k = c->k_pass;
+    const cl_mem step[] = {c->x,   c->x_prev, c->g.child,   c->g.order, c->g.lo,     c->g.hi,
+                           c->g.v, c->g.tris, c->g.contact, c->attach,  c->att_from, c->att_to};
+    const cl_mem springs[] = {c->x, c->ends, c->rest, c->kind};
+    const cl_mem vertices[] = {c->x,      c->x_prev, c->anchor, c->tlen,       c->g.contact, c->g.v,
+                               c->g.tris, c->g.n,    c->g.nbr,  c->g.vt_start, c->g.vt_list};
+    const cl_mem hierarchy[] = {c->x,           c->x_prev,   c->hier_vertex, c->hier_parent_start,
+                                c->hier_parent, c->hier_rest};
+    const cl_mem support[] = {c->x,         c->x_prev,     c->ends,   c->rest,
+                              c->g.contact, c->g.v,        c->g.tris, c->g.n,
+                              c->adj_start, c->adj_spring, c->level,  c->front};
+    const cl_mem settle[] = {c->x, c->ends, c->rest, c->kind, c->settle};
+    const cl_mem reopen[] = {c->x,    c->x_prev, c->g.child, c->g.order,  c->g.lo,
+                             c->g.hi, c->g.v,    c->g.tris,  c->g.contact};
+#define N(a) (cl_uint)(sizeof a / sizeof a[0])
+    cl_int st = CL_SUCCESS;
+    for (int i = 0; i < PASS_KINDS; i++)
+        if (i != PASS_SETTLE_TEST)
+            st |= clSetKernelArg(k[i], 0, sizeof *p, p);
+    st |= buffer_args(k[PASS_STEP], 2, step, N(step));
+    st |= buffer_args(k[PASS_SPRINGS], 3, springs, N(springs));
+    st |= buffer_args(k[PASS_STRAIN], 3, springs, N(springs));
+    st |= buffer_args(k[PASS_VERTICES], 3, vertices, N(vertices));
+    st |= buffer_args(k[PASS_HIERARCHY], 3, hierarchy, N(hierarchy));
+    st |= buffer_args(k[PASS_SUPPORT], 1, support, N(support));
+    st |= buffer_args(k[PASS_SETTLE_TEST], 1, settle, N(settle));
+    st |= buffer_args(k[PASS_REOPEN], 2, reopen, N(reopen));
+#undef N
+    return st;
+}
+
+/* Pass kernel kind over n items: groups of PASS_GROUP, the last one partly idle. */
+#define PASS_GROUP 128
+static cl_int launch(cl_state *c, pass_kind kind, int n)
+{
+    if (n <= 0)
+        return CL_SUCCESS;
+    size_t local = PASS_GROUP, global = ((size_t)n + PASS_GROUP - 1) / PASS_GROUP * PASS_GROUP;
+    return clEnqueueNDRangeKernel(c->cl.queue, c->k_pass[kind], 1, NULL, &global, &local, 0, NULL,
+                                  NULL);
+}
+
+/* Pass kernel kind over items [begin, end) (a colour of springs, a level of the hierarchy). */
+static cl_int launch_range(cl_state *c, pass_kind kind, int begin, int end)
+{
+    cl_int st = ARG(c->k_pass[kind], 1, begin);
+    st |= ARG(c->k_pass[kind], 2, end);
+    return st != CL_SUCCESS ? st : launch(c, kind, end - begin);
+}
+
+/* Where a frame walked pass by pass stands. */
+typedef struct pass_walk {
+    const sim_solver_params *p;
+    int nstretch; /* springs [0, nstretch) hold the stretch ones */
+    float prev;   /* the settle test before */
+    int stop;     /* the settle rounds are over */
+    cl_int settled;
+} pass_walk;
+
+/* SIM_STAGE_SETTLE_TEST: the largest stretch strain on the device, read back to decide. */
+static cl_int pass_settle_test(cl_state *c, pass_walk *w, int rep)
+{
+    static const cl_int zero = 0;
+    cl_int bits = 0;
+    cl_int st = clEnqueueWriteBuffer(c->cl.queue, c->settle, CL_FALSE, 0, sizeof zero, &zero, 0,
+                                     NULL, NULL);
+    st |= ARG(c->k_pass[PASS_SETTLE_TEST], 0, w->nstretch);
+    if (st == CL_SUCCESS)
+        st = launch(c, PASS_SETTLE_TEST, w->nstretch);
+    if (st == CL_SUCCESS)
+        st = clEnqueueReadBuffer(c->cl.queue, c->settle, CL_TRUE, 0, sizeof bits, &bits, 0, NULL,
+                                 NULL);
+    float m;
+    memcpy(&m, &bits, sizeof m);
+    if (sim_settle_stop(m, w->prev, rep == 0, w->p->contact_every > 0, w->p))
+        w->stop = 1;
+    w->prev = m;
+    return st;
+}
+
+/* One stage of block b's repetition rep, as sim_iterations_tryon runs it in one work-group. */
+static cl_int pass_stage(cl_state *c, const sim_cloth *k, pass_walk *w, int stage, int b, int rep)
+{
+    const sim_solver_params *p = w->p;
+    cl_kernel *kp = c->k_pass;
+    cl_int st = CL_SUCCESS;
+    switch (stage) {
+    case SIM_STAGE_STEP:
+        st = ARG(kp[PASS_STEP], 1, rep);
+        return st != CL_SUCCESS ? st : launch(c, PASS_STEP, p->nv > p->natt ? p->nv : p->natt);
+    case SIM_STAGE_SPRINGS:
+        for (int col = 0; col < k->num_colors && st == CL_SUCCESS; col++)
+            st = launch_range(c, PASS_SPRINGS, k->color_start[col], k->color_start[col + 1]);
+        return st;
+    case SIM_STAGE_SWEEP:
+        for (int col = 0; col < k->num_stretch_colors && st == CL_SUCCESS; col++)
+            st = launch_range(c, PASS_STRAIN, k->color_start[col], k->color_start[col + 1]);
+        return st;
+    case SIM_STAGE_VERTICES: {
+        cl_int close = sim_vertices_close(b), open = sim_vertices_open(b, rep, p);
+        st = ARG(kp[PASS_VERTICES], 1, close);
+        st |= ARG(kp[PASS_VERTICES], 2, open);
+        if (b == SIM_BLOCK_SETTLE)
+            w->settled = rep + 1;
+        return st != CL_SUCCESS ? st : launch(c, PASS_VERTICES, p->nv);
+    }
+    case SIM_STAGE_HIERARCHY:
+        for (int l = 0; l < k->hier_levels && st == CL_SUCCESS; l++)
+            st =
+                launch_range(c, PASS_HIERARCHY, k->hier_level_start[l], k->hier_level_start[l + 1]);
+        return st;
+    case SIM_STAGE_SUPPORT:
+        return clEnqueueNDRangeKernel(c->cl.queue, kp[PASS_SUPPORT], 1, NULL, &c->support_group,
+                                      &c->support_group, 0, NULL, NULL);
+    case SIM_STAGE_SETTLE_TEST:
+        return pass_settle_test(c, w, rep);
+    case SIM_STAGE_REOPEN:
+        st = ARG(kp[PASS_REOPEN], 1, rep);
+        return st != CL_SUCCESS ? st : launch(c, PASS_REOPEN, p->nv);
+    default: /* START and CONTACTS: the commands before (cl_frame) */
+        return CL_SUCCESS;
+    }
+}
+
+/* The frame's iterations pass by pass (a GPU): the host walks the frame's stages
+   (kernels/solver_params.h) as sim_iterations_tryon does in one work-group, a launch per pass;
+   the settle test is read back to decide. The settle rounds run into *settled. */
+static cl_int frame_passes(cl_state *c, const struct sim *s, int iters, cl_int *settled)
+{
+    sim_solver_params p;
+    frame_params(c, s, iters, &p);
+    pass_walk w = {.p = &p, .nstretch = s->cloth.color_start[s->cloth.num_stretch_colors]};
+    cl_int st = pass_args(c, &p);
+    for (int b = 0; b < SIM_BLOCKS && !w.stop && st == CL_SUCCESS; b++)
+        for (int rep = 0; rep < sim_block_repeats(b, &p) && !w.stop && st == CL_SUCCESS; rep++)
+            for (int i = sim_block_start[b];
+                 i < sim_block_start[b + 1] && !w.stop && st == CL_SUCCESS; i++)
+                if (sim_stage_runs(sim_frame_stages[i], b, rep, &p))
+                    st = pass_stage(c, &s->cloth, &w, sim_frame_stages[i], b, rep);
+    *settled = w.settled;
+    return st;
 }
 
 static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
@@ -353,9 +572,9 @@ static int cl_frame(void *state, struct sim *s, int iters, sim_frame_stats *st)
     st->ms_contacts = (float)(t2 - t1);
     size_t bytes = (size_t)k->nv * 16;
     cl_int settled = 0;
-    if (iterations(c, s, iters) != CL_SUCCESS ||
-        clEnqueueReadBuffer(c->cl.queue, c->settle, CL_FALSE, 0, sizeof settled, &settled, 0, NULL,
-                            NULL) ||
+    if ((c->passes ? frame_passes(c, s, iters, &settled) : iterations(c, s, iters)) != CL_SUCCESS ||
+        (!c->passes && clEnqueueReadBuffer(c->cl.queue, c->settle, CL_FALSE, 0, sizeof settled,
+                                           &settled, 0, NULL, NULL)) ||
         clEnqueueReadBuffer(c->cl.queue, c->x, CL_FALSE, 0, bytes, k->x, 0, NULL, NULL) ||
         clEnqueueReadBuffer(c->cl.queue, c->x_prev, CL_TRUE, 0, bytes, k->x_prev, 0, NULL, NULL))
         goto fail;

@@ -346,7 +346,7 @@ static int stage_settle_test(struct sim *s, c_state *cs, frame_walk *w, int rep)
                         sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e));
     sim_phase_end(w->ph, &w->cur, 1);
     float m = bits_float(&cs->settle[k]);
-    if (!(m > SIM_SETTLE_STRAIN) || (!w->refresh && k > 0 && !(m < SIM_SETTLE_PROGRESS * w->prev)))
+    if (sim_settle_stop(m, w->prev, k == 0, w->refresh, w->p))
         return 1;
     w->prev = m;
     return 0;

@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -104,6 +105,10 @@ static void test_cl_backend_agrees_with_c(void **state)
             sim_device_name(sc), sim_device_name(so), (double)worst, FRAMES, fp_c, fp_o);
     assert_true(fp_c > 0);
     assert_true(worst <= AGREE_TOL);
+    /* TRYON_CL_PASSES=1 (test_cl_backend_passes): the frame ran pass by pass, as on a GPU */
+    const char *passes = getenv("TRYON_CL_PASSES");
+    if (passes && !strcmp(passes, "1"))
+        assert_non_null(strstr(sim_device_name(so), "pass by pass"));
     sim_destroy(sc);
     sim_destroy(so);
     g.num_attachments = 0;
