@@ -25,6 +25,8 @@ struct sim_scene {
     int has_joints;
     int kind;   /* 0 sphere, 1 body model, 2 capsule figure */
     int motion; /* -1 = all, -2 = a motion-capture clip */
+    /* a scripted motion's time scale and the scale of its joint rotations ("NAME@SPEED,AMOUNT") */
+    double speed, amount;
 #ifdef SIM_HAVE_BODYFIT
     fit_model *model;
     fit_clip *clip; /* a motion-capture clip (motion FILE.bvh), else NULL */
@@ -199,10 +201,47 @@ static int load_clip(sim_scene *sc, const char *path, char *err, size_t err_size
     return rc;
 }
 
+/* "NAME@SPEED[,AMOUNT]": a scripted motion played SPEED times as fast, its joint rotations times
+   AMOUNT (the stability map's axes: arms_down@1,1.15 holds the arms vertical, bend_forward@2 bends
+   at 2 Hz). name gets NAME. Returns 0, or -1 with err filled. */
+static int motion_scale(const char *motion, char *name, size_t name_size, double *speed,
+                        double *amount, char *err, size_t err_size)
+{
+    *speed = *amount = 1.0;
+    const char *at = strchr(motion, '@');
+    size_t n = at ? (size_t)(at - motion) : strlen(motion);
+    if (n >= name_size) {
+        snprintf(err, err_size, "motion '%.40s...' too long", motion);
+        return -1;
+    }
+    memcpy(name, motion, n);
+    name[n] = '\0';
+    if (!at)
+        return 0;
+    char *end;
+    *speed = strtod(at + 1, &end);
+    if (*end == ',')
+        *amount = strtod(end + 1, &end);
+    if (*end != '\0' || !(*speed > 0.0 && *speed <= 10.0) || !(*amount >= 0.0 && *amount <= 3.0) ||
+        fit_motion_from_name(name) < 0) {
+        snprintf(err, err_size,
+                 "motion '%s': NAME@SPEED[,AMOUNT] takes a scripted motion, 0 < SPEED <= 10 and "
+                 "0 <= AMOUNT <= 3",
+                 motion);
+        return -1;
+    }
+    return 0;
+}
+
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
 {
     int m = is_bvh(motion) ? -2 : -1;
-    if (strcmp(motion, "all") != 0 && !is_bvh(motion) && (m = fit_motion_from_name(motion)) < 0) {
+    char name[64];
+    double speed = 1.0, amount = 1.0;
+    if (!is_bvh(motion) &&
+        motion_scale(motion, name, sizeof name, &speed, &amount, err, err_size) != 0)
+        return NULL;
+    if (strcmp(motion, "all") != 0 && !is_bvh(motion) && (m = fit_motion_from_name(name)) < 0) {
         snprintf(err, err_size, "motion '%s' unknown", motion);
         return NULL;
     }
@@ -219,6 +258,8 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
     sc->model = model;
     sc->kind = 1;
     sc->motion = m;
+    sc->speed = speed;
+    sc->amount = amount;
     sc->has_joints = 1;
     memcpy(sc->tris, fit_model_triangles(model), (size_t)sc->nt * 3 * sizeof *sc->tris);
     if (is_bvh(motion) && load_clip(sc, motion, err, err_size) != 0) {
@@ -245,6 +286,16 @@ static void clip_pose(const fit_clip *clip, double t_s, fit_pose *pose)
             pose->rot[j][k] = (float)(w * pose->rot[j][k]);
 }
 
+/* A scripted motion at t_s, sped up and its rotations scaled (motion_scale). */
+static void scaled_motion_pose(const sim_scene *sc, double t_s, fit_pose *pose)
+{
+    fit_motion_eval((fit_motion)sc->motion, t_s * sc->speed, pose);
+    if (sc->amount != 1.0)
+        for (int j = 0; j < FIT_JOINT_COUNT; j++) /* rotation vectors: the angle scaled */
+            for (int k = 0; k < 3; k++)
+                pose->rot[j][k] = (float)(sc->amount * pose->rot[j][k]);
+}
+
 int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
                    int *nt, const float **joints)
 {
@@ -253,7 +304,7 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
         if (sc->clip)
             clip_pose(sc->clip, t_s, &pose);
         else if (sc->motion >= 0)
-            fit_motion_eval((fit_motion)sc->motion, t_s, &pose);
+            scaled_motion_pose(sc, t_s, &pose);
         else
             all_motions_pose(sc, t_s, &pose);
         if (fit_model_pose(sc->model, &pose, sc->xyz, sc->joints) < 0)
@@ -275,7 +326,7 @@ double sim_scene_duration(const sim_scene *sc)
     if (sc->clip)
         return SCENE_CLIP_IN_S + fit_clip_duration(sc->clip);
     if (sc->motion >= 0)
-        return fit_motion_duration((fit_motion)sc->motion);
+        return fit_motion_duration((fit_motion)sc->motion) / sc->speed;
     return all_duration();
 }
 #else

@@ -7,11 +7,13 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
 
+#include "bodyfit.h"
 #include "scene.h"
 #include "sim.h"
 #include "sim_test_util.h"
@@ -241,13 +243,68 @@ static void test_shirt_hem_at_the_hips(void **state)
     }
 }
 
+/* The stability map's axes: "NAME@SPEED,AMOUNT" plays a scripted motion SPEED times as fast with
+ * its rotations times AMOUNT: at time t it is the motion at SPEED t; AMOUNT 0 is the rest pose;
+ * bad specifications are refused by name. */
+static void test_scaled_motion(void **state)
+{
+    (void)state;
+    char err[256];
+    sim_scene *plain = sim_scene_body("bend_forward", 2000, err, sizeof err);
+    sim_scene *fast = sim_scene_body("bend_forward@2", 2000, err, sizeof err);
+    sim_scene *none = sim_scene_body("arms_down@1,0", 2000, err, sizeof err);
+    sim_scene *down = sim_scene_body("arms_down@1,1.15", 2000, err, sizeof err);
+    sim_scene *deflt = sim_scene_body("arms_down", 2000, err, sizeof err);
+    assert_true(plain && fast && none && down && deflt);
+    assert_float_equal(sim_scene_duration(fast), 0.5 * sim_scene_duration(plain), 1e-9);
+    const float *a, *b, *ja, *jb;
+    const int32_t *tris;
+    int nv, nt;
+    /* bend_forward@2 at 0.1 s is bend_forward at 0.2 s (the sine's peak is at 0.25 s) */
+    assert_int_equal(sim_scene_eval(plain, 0.2, &a, &nv, &tris, &nt, &ja), 0);
+    float want[32 * 3];
+    memcpy(want, ja, sizeof want);
+    assert_int_equal(sim_scene_eval(fast, 0.1, &b, &nv, &tris, &nt, &jb), 0);
+    for (int k = 0; k < 3 * 21; k++)
+        assert_float_equal(jb[k], want[k], 1e-6);
+    /* amount 0: the rest pose, whenever; arms_down at 3 s with amount 1.15: the wrists lower
+       than with the default amount (6 degrees from vertical) */
+    assert_int_equal(sim_scene_eval(none, 3.0, &a, &nv, &tris, &nt, &ja), 0);
+    memcpy(want, ja, sizeof want);
+    assert_int_equal(sim_scene_eval(deflt, 0.0, &b, &nv, &tris, &nt, &jb), 0);
+    for (int k = 0; k < 3 * 21; k++)
+        assert_float_equal(jb[k], want[k], 1e-6);
+    assert_int_equal(sim_scene_eval(deflt, 3.0, &a, &nv, &tris, &nt, &ja), 0);
+    float w_default[3], s_default[3];
+    memcpy(w_default, ja + 3 * FIT_L_WRIST, sizeof w_default);
+    memcpy(s_default, ja + 3 * FIT_L_SHOULDER, sizeof s_default);
+    assert_int_equal(sim_scene_eval(down, 3.0, &b, &nv, &tris, &nt, &jb), 0);
+    /* the arm nearer vertical: the wrist nearer straight below the shoulder */
+    float off_default = fabsf(w_default[0] - s_default[0]);
+    float off_down = fabsf(jb[3 * FIT_L_WRIST] - jb[3 * FIT_L_SHOULDER]);
+    printf("# arms_down at 3 s: wrist %.3f m beside the shoulder, %.3f with amount 1.15\n",
+           (double)off_default, (double)off_down);
+    assert_true(off_down < 0.5f * off_default);
+    sim_scene_destroy(plain);
+    sim_scene_destroy(fast);
+    sim_scene_destroy(none);
+    sim_scene_destroy(down);
+    sim_scene_destroy(deflt);
+    const char *bad[] = {"bend@2",   "arms_down@0", "arms_down@-1", "arms_down@11", "arms_down@1,4",
+                         "walk@1,x", "walk@",       "all@2",        "arms_down@nan"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        err[0] = '\0';
+        assert_null(sim_scene_body(bad[i], 2000, err, sizeof err));
+        assert_non_null(strstr(err, bad[i]));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_all_segments_in_order),
-        cmocka_unit_test(test_all_never_jumps),
-        cmocka_unit_test(test_rebind_to_other_detail),
-        cmocka_unit_test(test_shirt_hem_at_the_hips),
+        cmocka_unit_test(test_all_segments_in_order),  cmocka_unit_test(test_all_never_jumps),
+        cmocka_unit_test(test_rebind_to_other_detail), cmocka_unit_test(test_shirt_hem_at_the_hips),
+        cmocka_unit_test(test_scaled_motion),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
