@@ -10,11 +10,12 @@
  * fictitious forces (centrifugal, Euler) from the garment, fraction 0 is the world frame.
  *
  * Which body part: not the attachments (the shirt's chest) but the body under the garment's
- * waist band (SIM_FOLLOW_DEPTH). A trunk that bends moves the chest and not the hips: the chest's
- * rigid motion swung the whole tube about the chest, its hem into the hips in front and off them
- * behind, and the contacts then pushed the hem's hoop out against its strain limit (bend_forward:
- * 31 % max strain, the hem's hoops; 2.9 % in the world frame). The waist turns with a body that
- * turns or walks, and hardly moves when the trunk bends above it (docs/sim.md, "Real motion").
+ * waist band (SIM_FOLLOW_DEPTH, half way down). A trunk that bends moves the chest and not the
+ * hips: the chest's rigid motion swung the whole tube about the chest, its hem into the hips in
+ * front and off them behind, and the contacts then pushed the hem's hoop out against its strain
+ * limit (bend_forward: 31 % max strain, the hem's hoops; 2.9 % in the world frame). The waist turns
+ * with a body that turns or walks, and hardly moves when the trunk bends above it (docs/sim.md,
+ * "Real motion").
  *
  * The rigid motion that best maps points p_i (frame k-1) onto q_i (frame k) in the least-squares
  * sense: Horn (1987), "Closed-form solution of absolute orientation using unit quaternions": the
