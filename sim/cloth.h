@@ -104,11 +104,15 @@ struct sim {
     float strain_good; /* max stretch strain of the last good frame */
     float excess_good; /* its strain over the retry goals (sim.c: strain_excess; > 1: missed) */
     /* The moving frame of this body frame (follow.c): x -> m x (3 x 4, row-major) applied to
-       the garment before the feature points when follow_on; follow_pq: 2 * num_attachments
-       points, the attachments in frames k-1 and k. */
+       the garment before the feature points when follow_on; follow_pq: 2 * (num_attachments +
+       SIM_FOLLOW_ANCHORS) points, the anchors (or the attachments) in frames k-1 and k. */
     float follow_m[12];
     int follow_on;
     double (*follow_pq)[3];
+    /* The moving frame's anchors: body vertices under the garment's waist band (follow.c),
+       chosen on a body frame of follow_anchor_nv vertices. */
+    int32_t *follow_anchor;
+    int num_follow_anchors, follow_anchor_nv;
     struct sim_carry *carry; /* a frame no attempt solves: the good cloth carried (carry.c) */
     float (*x_first)[4];     /* the garment as made, on the first body frame (body_first) */
     float (*body_first)[4];  /* [max_body_vertices]: that body frame, for re-dressing */
@@ -153,11 +157,21 @@ struct sim {
 /* The moving frame (follow.c). sim_fit_rigid: the rigid motion x -> m x (3 x 4, row-major)
  * that maps the n >= 3 points p onto q best in least squares, or that fraction (0..1) of it (the
  * angle about the same axis, the centroid's way); 0, or -1 when none is defined.
- * sim_follow_motion: s->follow_m and follow_on for this body frame, from the attachments.
+ * sim_follow_motion: s->follow_m and follow_on for this body frame, from the body under the
+ * garment's waist band (its anchors; the attachments where it has none).
  * sim_follow: x and x_prev of vertices [begin, end) moved by m (twin: kernels/springs.cl). */
 int sim_fit_rigid(const double (*p)[3], const double (*q)[3], int n, double fraction, float m[12]);
 void sim_follow_motion(struct sim *s);
 void sim_follow(float (*x)[4], float (*x_prev)[4], int begin, int end, const float m[12]);
+/* The moving frame's anchors: at most this many body vertices, those nearest the garment's
+   vertices whose tether (rest distance to the nearest attachment) is within
+   SIM_FOLLOW_BAND_M under SIM_FOLLOW_DEPTH of the longest one: the shirt's waist, half way from
+   its chest to its hem. Measured ("Bends: the cause" in docs/sim-history.md): the hem's own band
+   holds the thighs, and the marching walk's frame swung with them (47 % strain); at 0.75 and 0.6
+   bend_forward had 95.3 % of frames within the goals, at 0.5 99.3 %, at 0.4 80 % (120 frames) */
+#define SIM_FOLLOW_ANCHORS 64
+#define SIM_FOLLOW_DEPTH   0.5f
+#define SIM_FOLLOW_BAND_M  0.01f
 
 /* Fill why (may be NULL) with code and a formatted place; returns -code. */
 int sim_reject_set(sim_reject *why, sim_error code, const char *fmt, ...)

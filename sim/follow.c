@@ -9,6 +9,14 @@
  * velocity scales of the reference bone: follow = 1 - that scale); fraction 1 drops the frame's
  * fictitious forces (centrifugal, Euler) from the garment, fraction 0 is the world frame.
  *
+ * Which body part: not the attachments (the shirt's chest) but the body under the garment's
+ * waist band (SIM_FOLLOW_DEPTH, half way down). A trunk that bends moves the chest and not the
+ * hips: the chest's rigid motion swung the whole tube about the chest, its hem into the hips in
+ * front and off them behind, and the contacts then pushed the hem's hoop out against its strain
+ * limit (bend_forward: 31 % max strain, the hem's hoops; 2.9 % in the world frame). The waist turns
+ * with a body that turns or walks, and hardly moves when the trunk bends above it (docs/sim.md,
+ * "Real motion").
+ *
  * The rigid motion that best maps points p_i (frame k-1) onto q_i (frame k) in the least-squares
  * sense: Horn (1987), "Closed-form solution of absolute orientation using unit quaternions": the
  * rotation is the unit quaternion of the largest eigenvalue of a symmetric 4x4 matrix built from
@@ -137,16 +145,64 @@ void sim_follow(float (*x)[4], float (*x_prev)[4], int begin, int end, const flo
     }
 }
 
-void sim_follow_motion(struct sim *s)
+/* The anchors: of the garment's vertices whose tether length is within SIM_FOLLOW_BAND_M under
+   SIM_FOLLOW_DEPTH of the longest, at most SIM_FOLLOW_ANCHORS evenly, each to the body vertex
+   nearest it on the last body frame (where the cloth is). Chosen on the first body frame with a
+   previous one, and again after the body's vertex count changes. */
+static void choose_anchors(struct sim *s)
+{
+    const sim_cloth *c = &s->cloth;
+    const sim_body *b = &s->body;
+    s->num_follow_anchors = 0;
+    s->follow_anchor_nv = b->nv;
+    float depth = 0.0f;
+    for (int i = 0; i < c->nv; i++)
+        depth = c->tether_anchor[i] >= 0 && c->tether_len[i] > depth ? c->tether_len[i] : depth;
+    depth *= SIM_FOLLOW_DEPTH;
+    int n = 0, k = 0;
+    for (int i = 0; i < c->nv; i++)
+        n += c->tether_anchor[i] >= 0 && c->tether_len[i] <= depth &&
+             c->tether_len[i] >= depth - SIM_FOLLOW_BAND_M;
+    int every = (n + SIM_FOLLOW_ANCHORS - 1) / SIM_FOLLOW_ANCHORS;
+    for (int i = 0; i < c->nv && s->num_follow_anchors < SIM_FOLLOW_ANCHORS; i++) {
+        if (!(c->tether_anchor[i] >= 0 && c->tether_len[i] <= depth &&
+              c->tether_len[i] >= depth - SIM_FOLLOW_BAND_M) ||
+            k++ % every)
+            continue;
+        float best = INFINITY;
+        int bv = -1;
+        for (int v = 0; v < b->nv; v++) {
+            float d2 = 0.0f;
+            for (int d = 0; d < 3; d++)
+                d2 += (b->v_prev[v][d] - c->x[i][d]) * (b->v_prev[v][d] - c->x[i][d]);
+            if (d2 < best) {
+                best = d2;
+                bv = v;
+            }
+        }
+        if (bv >= 0)
+            s->follow_anchor[s->num_follow_anchors++] = bv;
+    }
+}
+
+/* The points the moving frame is fitted to, in frames k-1 (p) and k (q): the anchors, or where
+   there are fewer than 3 the attachments. Returns their count. */
+static int follow_points(struct sim *s, double (*p)[3], double (*q)[3])
 {
     const sim_body *b = &s->body;
-    int na = s->cloth.num_attachments;
-    s->follow_on = 0;
-    if (s->desc.solver != SIM_SOLVER_TRYON || !(s->desc.follow > 0.0f) || !b->have_prev || na < 3 ||
-        !s->follow_pq)
-        return;
-    double(*p)[3] = s->follow_pq, (*q)[3] = s->follow_pq + na;
-    for (int a = 0; a < na; a++) {
+    if (s->follow_anchor_nv != b->nv)
+        choose_anchors(s);
+    int n = s->num_follow_anchors;
+    if (n >= 3) {
+        for (int a = 0; a < n; a++)
+            for (int d = 0; d < 3; d++) {
+                p[a][d] = b->v_prev[s->follow_anchor[a]][d];
+                q[a][d] = b->v[s->follow_anchor[a]][d];
+            }
+        return n;
+    }
+    n = s->cloth.num_attachments;
+    for (int a = 0; a < n; a++) {
         const sim_attachment *at = &s->cloth.attachments[a];
         const int32_t *t = b->tris[at->body_triangle];
         for (int d = 0; d < 3; d++) {
@@ -157,7 +213,20 @@ void sim_follow_motion(struct sim *s)
             }
         }
     }
-    if (sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, na, (double)s->desc.follow,
+    return n;
+}
+
+void sim_follow_motion(struct sim *s)
+{
+    const sim_body *b = &s->body;
+    int na = s->cloth.num_attachments;
+    s->follow_on = 0;
+    if (s->desc.solver != SIM_SOLVER_TRYON || !(s->desc.follow > 0.0f) || !b->have_prev || na < 3 ||
+        !s->follow_pq || !s->follow_anchor)
+        return;
+    double(*p)[3] = s->follow_pq, (*q)[3] = s->follow_pq + na + SIM_FOLLOW_ANCHORS;
+    int n = follow_points(s, p, q);
+    if (sim_fit_rigid((const double(*)[3])p, (const double(*)[3])q, n, (double)s->desc.follow,
                       s->follow_m) != 0)
         return;
     /* a body standing still: nothing to move (the identity would leave the same bits) */

@@ -441,8 +441,8 @@ static int usage(FILE *f, int rc)
             "  CONTROL messages switch the garment (shirt, tunic, FILE.obj, FILE.json), size and\n"
             "          fabric\n"
             "          on the next body (docs/mirror.md)\n"
-            "  --follow F: the fraction (0..1, default 1) of the rigid motion of the garment's\n"
-            "          attachments given to the whole garment each frame; < 0: world frame\n");
+            "  --follow F: the fraction (0..1, default 1) of the rigid motion of the body at\n"
+            "          the garment's waist given to all of it each frame; < 0: world frame\n");
     return rc;
 }
 

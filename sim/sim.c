@@ -296,13 +296,15 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->x_prev_best = malloc((size_t)nv * sizeof *s->x_prev_best);
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
-    s->follow_pq = malloc((size_t)(2 * s->cloth.num_attachments + 1) * sizeof *s->follow_pq);
+    s->follow_pq = malloc((size_t)(2 * (s->cloth.num_attachments + SIM_FOLLOW_ANCHORS) + 1) *
+                          sizeof *s->follow_pq);
+    s->follow_anchor = malloc(SIM_FOLLOW_ANCHORS * sizeof *s->follow_anchor);
     s->carry = sim_carry_create(d.max_body_vertices);
     s->x_first = malloc((size_t)nv * sizeof *s->x_first);
     s->body_first = malloc((size_t)d.max_body_vertices * sizeof *s->body_first);
     if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
-        !s->tris3 || !s->follow_pq || !s->carry || !s->x_first || !s->body_first ||
-        body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
+        !s->tris3 || !s->follow_pq || !s->follow_anchor || !s->carry || !s->x_first ||
+        !s->body_first || body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
         return NULL;
@@ -352,6 +354,7 @@ void sim_destroy(sim *s)
     free(s->scratch);
     free(s->tris3);
     free(s->follow_pq);
+    free(s->follow_anchor);
     sim_carry_destroy(s->carry);
     free(s->x_first);
     free(s->body_first);

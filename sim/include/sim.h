@@ -67,10 +67,11 @@ typedef struct sim_desc {
     float friction;     /* Coulomb coefficient against the body; 0 = 0.3; < 0 = none */
     float gravity_m_s2; /* downward; 0 = 9.81; < 0 = none */
     float strain_limit; /* tryon solver: stretch springs clamped to rest * (1 + this); 0 = 0.0075 */
-    /* tryon solver, garments with 3 or more attachments: the fraction of the attachments' rigid
-     * motion each body frame given to the whole garment before it is simulated (a frame moving
-     * with the body part the garment hangs from; docs/sim.md); 0 = 1; < 0 = none (world frame).
-     * The seed solver always simulates in the world frame. */
+    /* tryon solver, garments with 3 or more attachments: the fraction of the rigid motion of
+     * the body under the garment's waist band each body frame given to the whole garment before
+     * it is simulated (a frame moving with the body, not with the chest when the trunk bends;
+     * docs/sim.md, "The moving frame"); 0 = 1; < 0 = none (world frame). The seed solver always
+     * simulates in the world frame. */
     float follow;
     /* tryon solver, garments without attachments: the support hierarchy, the strain limit
      * propagated in one pass outward from the vertex the body holds up (docs/sim.md); 0 = on;
