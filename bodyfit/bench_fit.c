@@ -400,8 +400,9 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
                         have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
         if (o->scores && gt && r.vertices)
-            fprintf(o->scores, "%s %d %d %u %.2f %.2f\n", name, k, r.state, r.doubt,
-                    1000.0 * err[0], 1000.0 * err[1]);
+            fprintf(o->scores, "%s %d %d %u %.2f %.2f %.3f %.3f %.2f %d\n", name, k, r.state,
+                    r.doubt, 1000.0 * err[0], 1000.0 * err[1], r.explained, r.free_space,
+                    r.residual_mm, r.unexplained_cluster);
 #ifdef BENCH_FIT_CLOTH
         if (gt && r.vertices)
             cloth_frame(&cloth, &cloth_off, o, &r, &gt[k], truth, tv, &s, tot);
@@ -485,7 +486,8 @@ static void usage(FILE *f)
             "--cloth-vertices: the shirt dressed on the fitted and on the true body for\n"
             "cloth_vs_truth_mm, N vertices (0, the default: not dressed, the field -1; the two\n"
             "sims take about 60 ms of CPU a frame with 600). --scores FILE: one line per scored\n"
-            "frame, 'recording frame state doubt surface_mm joints_mm'. --true-shape: fit with\n"
+            "frame, 'recording frame state doubt surface_mm joints_mm explained free_space\n"
+            "residual_mm unexplained_cluster'. --true-shape: fit with\n"
             "the recording's true shape, held (the pose's share of the error, a diagnosis);\n"
             "--true-shape-except K: the same with parameter K (0..8, fit_shape order) the\n"
             "average preset's (what that parameter's error costs).\n");

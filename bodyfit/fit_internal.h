@@ -89,11 +89,11 @@ void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, const fit_shape
 fit_shape fit_shape_adapted(const fit_shape_base *b, const fit_shape_q *q);
 
 /* The last solve's correspondences (fit_solve.c): point i of the problem matched to coarse
- * vertex vertex[i] (-1: none) with weight weight[i]; the posed coarse vertices and normals at
- * the solved pose. Valid until the next solve. */
+ * vertex vertex[i] (-1: none) with weight weight[i] and signed point-to-plane residual resid[i]
+ * (m); the posed coarse vertices and normals at the solved pose. Valid until the next solve. */
 typedef struct fit_matches {
     const int32_t *vertex;
-    const float *weight, *pos, *nrm;
+    const float *weight, *resid, *pos, *nrm;
     int count;
 } fit_matches;
 fit_matches fit_solver_matches(const fit_solver *s);
@@ -106,5 +106,11 @@ fit_matches fit_solver_matches(const fit_solver *s);
  * fit_error. */
 int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver *s, fit_pose *pose,
                    const float *points, float gain, float *scratch, fit_shape_q *q);
+
+/* The most points of one cluster among the points the model leaves unexplained (no match, or
+ * farther than tol from it), points within radius_m of each other joined (fit_unexplained.c):
+ * a limb the fit has lost leaves its points together, depth noise leaves them scattered. -1
+ * without memory. */
+int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m);
 
 #endif

@@ -32,7 +32,7 @@ struct fit_solver {
     float *pos, *nrm;
     uint8_t *front;
     int32_t *cell_start, *cell_items, *match;
-    float *match_w;
+    float *match_w, *match_r;
     int ncells_cap, match_cap, match_n;
 };
 
@@ -67,6 +67,7 @@ void fit_solver_destroy(fit_solver *s)
     free(s->cell_start);
     free(s->match);
     free(s->match_w);
+    free(s->match_r);
     free(s);
 }
 
@@ -219,6 +220,7 @@ static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double 
         *explained += a <= tol;
         s->match[i] = v;
         s->match_w[i] = (float)(w / w0);
+        s->match_r[i] = r;
         ++in;
     }
     return in;
@@ -383,9 +385,11 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
     if (pb->count > s->match_cap) {
         free(s->match);
         free(s->match_w);
+        free(s->match_r);
         s->match = malloc((size_t)pb->count * sizeof(int32_t));
         s->match_w = malloc((size_t)pb->count * sizeof(float));
-        s->match_cap = s->match && s->match_w ? pb->count : 0;
+        s->match_r = malloc((size_t)pb->count * sizeof(float));
+        s->match_cap = s->match && s->match_w && s->match_r ? pb->count : 0;
         if (!s->match_cap)
             return -FIT_ERR_NOMEM;
     }
@@ -423,6 +427,7 @@ fit_matches fit_solver_matches(const fit_solver *s)
 {
     return (fit_matches){.vertex = s->match,
                          .weight = s->match_w,
+                         .resid = s->match_r,
                          .pos = s->pos,
                          .nrm = s->nrm,
                          .count = s->match_n};
