@@ -109,8 +109,13 @@ int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver 
 
 /* The most points of one cluster among the points the model leaves unexplained (no match, or
  * farther than tol from it), points within radius_m of each other joined (fit_unexplained.c):
- * a limb the fit has lost leaves its points together, depth noise leaves them scattered. -1
- * without memory. */
-int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m);
+ * a limb the fit has lost leaves its points together, depth noise leaves them scattered.
+ * centroid: that cluster's mean point. -1 without memory. */
+int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m,
+                            float centroid[3]);
+/* Turns the arm whose shoulder is nearest target (world) about the shoulder so that its
+ * shoulder-to-wrist line points at target, the pose kept inside the joint limits
+ * (fit_limb.c). Returns the shoulder joint turned. */
+int fit_limb_reaim(const fit_model *m, fit_pose *pose, const float target[3]);
 
 #endif

@@ -14,19 +14,21 @@ static int uf_root(int *parent, int i)
     return i;
 }
 
-int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m)
+int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m,
+                            float centroid[3])
 {
-    int n = 0, best = 0;
-    int *idx = malloc((size_t)(m->count > 0 ? m->count : 1) * 2 * sizeof(int));
+    size_t cap = (size_t)(m->count > 0 ? m->count : 1);
+    int *idx = malloc(cap * 3 * sizeof(int));
+    centroid[0] = centroid[1] = centroid[2] = 0.0f;
     if (!idx)
         return -1;
-    int *parent = idx + (m->count > 0 ? m->count : 1);
+    int *parent = idx + cap, *size = idx + 2 * cap, n = 0, best = 0, best_root = -1;
     for (int i = 0; i < m->count; ++i)
         if (m->vertex[i] < 0 || fabsf(m->resid[i]) > tol)
             idx[n++] = i;
     float r2 = radius_m * radius_m;
     for (int a = 0; a < n; ++a)
-        parent[a] = a;
+        parent[a] = a, size[a] = 0;
     for (int a = 0; a < n; ++a)
         for (int b = a + 1; b < n; ++b) {
             const float *p = points + (size_t)idx[a] * 3, *q = points + (size_t)idx[b] * 3;
@@ -34,13 +36,15 @@ int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol
             if (body_dot(d, d) <= r2)
                 parent[uf_root(parent, a)] = uf_root(parent, b);
         }
-    /* Sizes counted in place of the indices, which are no longer needed. */
-    for (int a = 0; a < n; ++a)
-        idx[a] = 0;
     for (int a = 0; a < n; ++a) {
         int r = uf_root(parent, a);
-        best = ++idx[r] > best ? idx[r] : best;
+        if (++size[r] > best)
+            best = size[r], best_root = r;
     }
+    for (int a = 0; a < n && best > 0; ++a)
+        if (uf_root(parent, a) == best_root)
+            for (int k = 0; k < 3; ++k)
+                centroid[k] += points[(size_t)idx[a] * 3 + k] / (float)best;
     free(idx);
     return best;
 }

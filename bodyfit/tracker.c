@@ -328,6 +328,34 @@ static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fi
     return rc;
 }
 
+/* The unexplained points' largest cluster; when it is a limb left behind, the arm nearest it
+ * is turned to point at it and the fit run again, and the pose that explains more points is
+ * kept (fit_limb.c). *fitted: 0 when the solver's matches are the rejected try's. */
+static int track_find_limb(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st,
+                           int fresh, int *fitted)
+{
+    float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M, at[3];
+    fit_matches mt = fit_solver_matches(t->solver);
+    int cluster = fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
+    if (fresh || cluster < TRACK_DOUBT_CLUSTER)
+        return cluster;
+    fit_pose alt = *pose;
+    fit_stats st2;
+    fit_limb_reaim(t->coarse, &alt, at);
+    if (fit_solve(t->solver, pb, &alt, &st2)) {
+        *fitted = 0;
+        return cluster;
+    }
+    if (st2.explained <= st->explained) {
+        *fitted = 0;
+        return cluster;
+    }
+    *pose = alt;
+    *st = st2;
+    mt = fit_solver_matches(t->solver);
+    return fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
+}
+
 static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *before, float g)
 {
     for (int k = 0; k < 3; ++k)
@@ -470,15 +498,13 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     int rc = fit_solve(t->solver, &pb, &pose, &st);
     if (!rc && fresh && !t->d.fixed_shape)
         rc = track_shape_first(t, &pb, &pose, &st);
+    int matches_fitted = 1; /* the solver's matches are those of the pose kept */
+    out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = now_ms() - t1;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
     out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
     out->free_space = st.sil_checked ? (float)st.sil_violations / (float)st.sil_checked : 0.0f;
-    fit_matches mt = fit_solver_matches(t->solver);
-    out->unexplained_cluster = fit_unexplained_cluster(
-        pb.points, &mt, pb.explained_m > 0.0f ? pb.explained_m : FIT_EXPLAINED_M,
-        TRACK_CLUSTER_RADIUS_M);
     if (rc || st.inliers < TRACK_MIN_INLIERS * (float)pb.count || st.rms_mm > TRACK_MAX_RMS_MM) {
         snprintf(out->message, sizeof out->message,
                  "%s: %s (%d of %d points within %.0f mm, RMS %.1f mm)",
@@ -496,7 +522,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
      * teach the shape (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm;
      * part_out, enter_leave, turn s2 1-2 mm better too; fast_swing s1 65 -> 92 mm worse: its
      * arm is lost either way, docs/bodyfit.md). */
-    if (!t->d.fixed_shape && (!out->doubt || t->person_frames <= t->d.shape_frames))
+    if (!t->d.fixed_shape && matches_fitted &&
+        (!out->doubt || t->person_frames <= t->d.shape_frames))
         track_shape_update(t, &t->pose, t->pts);
     double t2 = now_ms();
     t->published = t->pose;
