@@ -76,6 +76,7 @@ struct fit_tracker {
     fit_shape_q q;        /* the shape's degrees of freedom (fit_shape_adapt.c) */
     float *shape_scratch; /* fit_shape_step's posed coarse meshes */
     int have_pose, have_last, person_frames, topology_id;
+    int shape_learnt; /* frames the shape has learnt from at the fast gain */
     double height_sum;
     int height_n;
     fit_smoother smooth; /* the published pose only */
@@ -305,7 +306,7 @@ static void track_height_update(fit_tracker *t, const fit_segment *sg, const fit
 
 static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points)
 {
-    int init = t->person_frames <= t->d.shape_frames;
+    int init = t->shape_learnt < t->d.shape_frames;
     float gain = init ? TRACK_SHAPE_GAIN_INIT : TRACK_SHAPE_GAIN_AFTER;
     if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
                        &t->q) == 0)
@@ -431,6 +432,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     t->have_last = 0;
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
+    t->shape_learnt = 0;
     t->rms_base = 0.0f;
     t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
     t->failing_frames = 0;
@@ -496,7 +498,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = fit_solve(t->solver, &pb, &pose, &st);
-    if (!rc && fresh && !t->d.fixed_shape)
+    if (!rc && fresh && !t->d.fixed_shape && !sg.touches_side &&
+        track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
         rc = track_shape_first(t, &pb, &pose, &st);
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
@@ -518,13 +521,16 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
-    /* The first frames estimate the shape whatever the doubt; after them a doubtful fit does not
-     * teach the shape (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm;
-     * part_out, enter_leave, turn s2 1-2 mm better too; fast_swing s1 65 -> 92 mm worse: its
-     * arm is lost either way, docs/bodyfit.md). */
-    if (!t->d.fixed_shape && matches_fitted &&
-        (!out->doubt || t->person_frames <= t->d.shape_frames))
+    /* The first frames estimate the shape whatever the doubt, unless the body is seen side-on or
+     * cut by the image's side (walking in: the lengths learnt from a side view left the joints
+     * 40-44 mm off once facing the camera); after them a doubtful fit does not teach the shape
+     * (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm). */
+    unsigned partial = FIT_DOUBT_SIDE_ON | FIT_DOUBT_OUT_OF_VIEW;
+    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) &&
+        (!out->doubt || t->person_frames <= t->d.shape_frames)) {
         track_shape_update(t, &t->pose, t->pts);
+        t->shape_learnt++;
+    }
     double t2 = now_ms();
     t->published = t->pose;
     if (fresh)
