@@ -51,6 +51,10 @@
  * starts again from the rest pose on the next frame, the shape kept. */
 #define TRACK_RESTART_EXPLAINED 0.90f
 #define TRACK_RESTART_FRAMES    10
+/* A limb left behind that the shoulder's turn has not brought back for this many frames in a
+ * row restarts the pose too (after crossed arms an arm kept inside the chest left its points
+ * unexplained, together, for good; the fast swing's arm comes back within 9). */
+#define TRACK_RESTART_LOST_PART_FRAMES 15
 /* Turned further than this from the camera, a single depth view sees the shoulders and hips
  * edge-on and one arm not at all (cos 60 degrees: the turn recordings' error rises past it). */
 #define TRACK_DOUBT_FACING_COS 0.5f
@@ -79,10 +83,11 @@ struct fit_tracker {
     int shape_learnt; /* frames the shape has learnt from at the fast gain */
     double height_sum;
     int height_n;
-    fit_smoother smooth; /* the published pose only */
-    float rms_base;      /* the fit's RMS while sound, mm per m^2 of distance (0: none yet) */
-    int sound_frames;    /* sound fits in a row (TRACK_SOUND_FRAMES for a new person) */
-    int failing_frames;  /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
+    fit_smoother smooth;  /* the published pose only */
+    float rms_base;       /* the fit's RMS while sound, mm per m^2 of distance (0: none yet) */
+    int sound_frames;     /* sound fits in a row (TRACK_SOUND_FRAMES for a new person) */
+    int failing_frames;   /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
+    int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
 };
 
@@ -423,9 +428,10 @@ static unsigned track_doubt(fit_tracker *t, const fit_stats *st, const fit_segme
         t->rms_base =
             t->rms_base > 0.0f ? t->rms_base + TRACK_RMS_BASE_GAIN * (rms - t->rms_base) : rms;
     t->sound_frames = d ? 0 : t->sound_frames + 1;
-    int failing = r->explained < TRACK_RESTART_EXPLAINED &&
-                  !(d & (FIT_DOUBT_OUT_OF_VIEW | FIT_DOUBT_SIDE_ON));
+    int in_view = !(d & (FIT_DOUBT_OUT_OF_VIEW | FIT_DOUBT_SIDE_ON));
+    int failing = r->explained < TRACK_RESTART_EXPLAINED && in_view;
     t->failing_frames = failing ? t->failing_frames + 1 : 0;
+    t->lost_part_frames = (d & FIT_DOUBT_LOST_PART) && in_view ? t->lost_part_frames + 1 : 0;
     return d;
 }
 
@@ -442,6 +448,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     t->rms_base = 0.0f;
     t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
     t->failing_frames = 0;
+    t->lost_part_frames = 0;
     out->state = FIT_STATE_LOST;
     out->error = e;
     if (why && why != out->message)
@@ -504,7 +511,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = fit_solve(t->solver, &pb, &pose, &st);
-    if (!rc && fresh && !t->d.fixed_shape && !sg.touches_side &&
+    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && !sg.touches_side &&
         track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
         rc = track_shape_first(t, &pb, &pose, &st);
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
@@ -555,9 +562,10 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->triangles = fit_model_triangles(t->full);
     out->triangle_count = fit_model_triangle_count(t->full);
     out->topology_id = t->topology_id;
-    if (t->failing_frames >= TRACK_RESTART_FRAMES) { /* this body is published, then restart */
+    if (t->failing_frames >= TRACK_RESTART_FRAMES ||
+        t->lost_part_frames >= TRACK_RESTART_LOST_PART_FRAMES) { /* publish this, then restart */
         t->have_pose = t->have_last = 0;
-        t->failing_frames = 0;
+        t->failing_frames = t->lost_part_frames = 0;
     }
     return FIT_FRAME_OK;
 }
