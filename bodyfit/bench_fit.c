@@ -22,6 +22,8 @@ typedef struct bench_opts {
     int max_frames, multi;   /* multi: several recordings, each --out in its own folder */
     int cloth_vertices;      /* the shirt of cloth_vs_truth_mm; 0 = none (the default) */
     const char *scores_path; /* --scores FILE */
+    int true_shape;          /* --true-shape: the recording's own shape, held (a diagnosis) */
+    int true_except;         /* --true-shape-except K: that one parameter the average's; -1 */
     FILE *scores;            /* one line per scored frame, or NULL */
 } bench_opts;
 
@@ -286,6 +288,18 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     int frames = o->max_frames > 0 && o->max_frames < idx.count ? o->max_frames : idx.count;
     rec_gt *gt = load_gt(dir, frames);
     fit_tracker_desc td = o->td;
+    if (o->true_shape && gt) {
+        td.fixed_shape = 1;
+        td.shape = fit_shape_from_array(gt[0].shape);
+        if (o->true_except >= 0) {
+            float a[FIT_SHAPE_PARAMS], avg[FIT_SHAPE_PARAMS];
+            fit_shape avg_shape = fit_shape_default();
+            fit_shape_to_array(&td.shape, a);
+            fit_shape_to_array(&avg_shape, avg);
+            a[o->true_except] = avg[o->true_except];
+            td.shape = fit_shape_from_array(a);
+        }
+    }
     char err[512];
     fit_tracker *tr = fit_tracker_create(&td, err, sizeof err);
     fit_model *truth = NULL;
@@ -386,8 +400,9 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
                         have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
         if (o->scores && gt && r.vertices)
-            fprintf(o->scores, "%s %d %d %u %.2f %.2f\n", name, k, r.state, r.doubt,
-                    1000.0 * err[0], 1000.0 * err[1]);
+            fprintf(o->scores, "%s %d %d %u %.2f %.2f %.3f %.3f %.2f %d\n", name, k, r.state,
+                    r.doubt, 1000.0 * err[0], 1000.0 * err[1], r.explained, r.free_space,
+                    r.residual_mm, r.unexplained_cluster);
 #ifdef BENCH_FIT_CLOTH
         if (gt && r.vertices)
             cloth_frame(&cloth, &cloth_off, o, &r, &gt[k], truth, tv, &s, tot);
@@ -454,7 +469,8 @@ static void usage(FILE *f)
             "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
             "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
             "                       [--smooth HZ] [--smooth-beta-root B] [--smooth-beta-rot B]\n"
-            "                       [--cloth-vertices N] [--scores FILE] RECORDING...\n"
+            "                       [--cloth-vertices N] [--scores FILE] [--true-shape]\n"
+            "                       [--true-shape-except K] RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
@@ -470,7 +486,11 @@ static void usage(FILE *f)
             "--cloth-vertices: the shirt dressed on the fitted and on the true body for\n"
             "cloth_vs_truth_mm, N vertices (0, the default: not dressed, the field -1; the two\n"
             "sims take about 60 ms of CPU a frame with 600). --scores FILE: one line per scored\n"
-            "frame, 'recording frame state doubt surface_mm joints_mm'.\n");
+            "frame, 'recording frame state doubt surface_mm joints_mm explained free_space\n"
+            "residual_mm unexplained_cluster'. --true-shape: fit with\n"
+            "the recording's true shape, held (the pose's share of the error, a diagnosis);\n"
+            "--true-shape-except K: the same with parameter K (0..8, fit_shape order) the\n"
+            "average preset's (what that parameter's error costs).\n");
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -482,12 +502,15 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             exit(0);
+        } else if (!strcmp(a, "--true-shape")) {
+            o->true_shape = 1;
+            continue;
         } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
                    strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
                    strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict") &&
                    strcmp(a, "--smooth") && strcmp(a, "--smooth-beta-root") &&
                    strcmp(a, "--smooth-beta-rot") && strcmp(a, "--cloth-vertices") &&
-                   strcmp(a, "--scores")) {
+                   strcmp(a, "--scores") && strcmp(a, "--true-shape-except")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -527,7 +550,10 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = parse_int(v, 0, 100000, &o->cloth_vertices);
         else if (!strcmp(a, "--scores"))
             o->scores_path = v;
-        else {
+        else if (!strcmp(a, "--true-shape-except")) {
+            bad = parse_int(v, 0, FIT_SHAPE_PARAMS - 1, &o->true_except);
+            o->true_shape = 1;
+        } else {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -549,7 +575,7 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
 
 int main(int argc, char **argv)
 {
-    bench_opts o = {0};
+    bench_opts o = {.true_except = -1};
     int first;
     if (parse_args(argc, argv, &o, &first))
         return 2;

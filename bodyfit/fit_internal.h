@@ -57,13 +57,26 @@ typedef struct fit_solver fit_solver;
 fit_solver *fit_solver_create(const fit_model *coarse);
 void fit_solver_destroy(fit_solver *s);
 int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *st);
-/* Mean signed point-to-model offset (m, positive = data outside the model) per body part of
- * the last solve: 0 torso, 1 arms, 2 legs; counts in n. */
-void fit_solver_part_offsets(const fit_solver *s, double off[3], int n[3]);
 
 /* Topology-keeping shape changes (fit_shape_adapt.c): a copy of a model's rest mesh, normals
- * and joints, re-applied with a uniform scale and per-part girth offsets (m along the normal). */
-#define FIT_SHAPE_PARTS 3 /* torso (with head), arms, legs */
+ * and joints, re-applied with the shape's degrees of freedom below. */
+/* One degree of freedom per shape parameter (fit_shape order but the torso's three girths as
+ * ratios): ratios are 1 and offsets 0 for the base shape. */
+typedef struct fit_shape_q {
+    float scale;      /* height over the base's: vertical, about the floor */
+    float leg;        /* leg length over the height-scaled base's, height kept */
+    float arm;        /* arm length over the base's, along the rest arm */
+    float shoulder;   /* shoulder width over the base's */
+    float torso[3];   /* hip, waist, chest girth over the base's: the pelvis, spine and chest
+                         parts scaled across (x and z) about their joint */
+    float arm_offset; /* m along the rest normal: the arm's girth grows by 2 pi times it */
+    float leg_offset; /* the same for the legs */
+} fit_shape_q;
+#define FIT_SHAPE_DOF 9 /* fit_shape_q as an array, in that order */
+fit_shape_q fit_shape_q_identity(void);
+void fit_shape_q_to_array(const fit_shape_q *q, float a[FIT_SHAPE_DOF]);
+fit_shape_q fit_shape_q_from_array(const float a[FIT_SHAPE_DOF]);
+
 typedef struct fit_shape_base {
     float *v, *n;
     int nv;
@@ -72,10 +85,37 @@ typedef struct fit_shape_base {
 } fit_shape_base;
 int fit_shape_base_init(fit_shape_base *b, const fit_model *m);
 void fit_shape_base_free(fit_shape_base *b);
-int fit_shape_part(int joint);
-void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, float scale,
-                          const float offset[FIT_SHAPE_PARTS]);
-fit_shape fit_shape_adapted(const fit_shape_base *b, float scale,
-                            const float offset[FIT_SHAPE_PARTS]);
+void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, const fit_shape_q *q);
+fit_shape fit_shape_adapted(const fit_shape_base *b, const fit_shape_q *q);
+
+/* The last solve's correspondences (fit_solve.c): point i of the problem matched to coarse
+ * vertex vertex[i] (-1: none) with weight weight[i] and signed point-to-plane residual resid[i]
+ * (m); the posed coarse vertices and normals at the solved pose. Valid until the next solve. */
+typedef struct fit_matches {
+    const int32_t *vertex;
+    const float *weight, *resid, *pos, *nrm;
+    int count;
+} fit_matches;
+fit_matches fit_solver_matches(const fit_solver *s);
+
+/* One Gauss-Newton step of the shape's degrees of freedom (all but the height's scale, which
+ * the top of the person gives) with the root's translation, on the last solve's
+ * correspondences, the rest of the pose held; gain scales
+ * the step (fit_shape_step.c); points: the solve's data points. scratch: FIT_SHAPE_DOF * the coarse
+ * vertex count * 3 floats. The coarse model is left with q applied. Returns 0 or a negative
+ * fit_error. */
+int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver *s, fit_pose *pose,
+                   const float *points, float gain, float *scratch, fit_shape_q *q);
+
+/* The most points of one cluster among the points the model leaves unexplained (no match, or
+ * farther than tol from it), points within radius_m of each other joined (fit_unexplained.c):
+ * a limb the fit has lost leaves its points together, depth noise leaves them scattered.
+ * centroid: that cluster's mean point. -1 without memory. */
+int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m,
+                            float centroid[3]);
+/* Turns the arm whose shoulder is nearest target (world) about the shoulder so that its
+ * shoulder-to-wrist line points at target, the pose kept inside the joint limits
+ * (fit_limb.c). Returns the shoulder joint turned. */
+int fit_limb_reaim(const fit_model *m, fit_pose *pose, const float target[3]);
 
 #endif

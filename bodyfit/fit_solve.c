@@ -22,18 +22,18 @@
 #define SOLVE_HUBER_M       0.02f /* residuals past 2 cm weigh less: depth noise is ~1-2 cm */
 #define SOLVE_SIL_WEIGHT    0.5   /* free-space term against the data term */
 #define SOLVE_SIL_EVERY     4     /* every 4th camera-facing coarse vertex checks free space */
-#define SOLVE_FRONT_SLACK_M 0.03f /* in front of the seen surface by more than this: violation */
-#define SOLVE_REST_PRIOR    2e-5  /* per radian squared, against a data term of ~1e-4 m^2 */
-#define SOLVE_LM_DAMPING    1e-3  /* relative to the diagonal */
+#define SOLVE_FRONT_SLACK_M 0.03f
+/* in front of the seen surface by more than this: violation */
+#define SOLVE_REST_PRIOR 2e-5 /* per radian squared, against a data term of ~1e-4 m^2 */
+#define SOLVE_LM_DAMPING 1e-3 /* relative to the diagonal */
 
 struct fit_solver {
     const fit_model *m;
     float *pos, *nrm;
     uint8_t *front;
     int32_t *cell_start, *cell_items, *match;
-    int ncells_cap;
-    double part_off[3];
-    int part_n[3];
+    float *match_w, *match_r;
+    int ncells_cap, match_cap, match_n;
 };
 
 fit_solver *fit_solver_create(const fit_model *coarse)
@@ -65,6 +65,9 @@ void fit_solver_destroy(fit_solver *s)
     free(s->front);
     free(s->cell_items);
     free(s->cell_start);
+    free(s->match);
+    free(s->match_w);
+    free(s->match_r);
     free(s);
 }
 
@@ -197,12 +200,12 @@ static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double 
     double w0 = 1.0 / (pb->count > 0 ? pb->count : 1);
     float gate2 = pb->max_match_m * pb->max_match_m;
     float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M;
-    memset(s->part_off, 0, sizeof s->part_off);
-    memset(s->part_n, 0, sizeof s->part_n);
+    s->match_n = pb->count;
     for (int i = 0; i < pb->count; ++i) {
         const float *p = pb->points + (size_t)i * 3;
         float d2;
         int v = grid_nearest(s, &f->g, p, &d2);
+        s->match[i] = -1;
         if (v < 0 || d2 > gate2)
             continue;
         fit_vjac vj;
@@ -215,9 +218,9 @@ static int data_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, double 
         add_row(&vj, n, -r, w, A, b);
         *sq += (double)r * r;
         *explained += a <= tol;
-        int part = fit_shape_part(s->m->wjoint[(size_t)v * FIT_MAX_INFLUENCES]);
-        s->part_off[part] -= r;
-        s->part_n[part]++;
+        s->match[i] = v;
+        s->match_w[i] = (float)(w / w0);
+        s->match_r[i] = r;
         ++in;
     }
     return in;
@@ -292,6 +295,7 @@ static void free_space_term(fit_solver *s, const fit_problem *pb, frame_ctx *f, 
             st->sil_violations += dx * dx + dy * dy >= FIT_SIL_OUT_PX * FIT_SIL_OUT_PX;
             continue;
         }
+
         float ru = ((float)((q % sg->width) * sg->stride) - vw->cx) / vw->fx;
         float rv = ((float)((q / sg->width) * sg->stride) - vw->cy) / vw->fy;
         fit_vertex_sparse(s->m, f->skin, f->joints, v, &vj);
@@ -378,6 +382,18 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
     const float *m = pb->view ? pb->view->camera_to_world : NULL;
     f.cam[0] = m ? m[3] : 0.0f, f.cam[1] = m ? m[7] : 1.0f, f.cam[2] = m ? m[11] : 2.5f;
     memset(st, 0, sizeof *st);
+    if (pb->count > s->match_cap) {
+        free(s->match);
+        free(s->match_w);
+        free(s->match_r);
+        s->match = malloc((size_t)pb->count * sizeof(int32_t));
+        s->match_w = malloc((size_t)pb->count * sizeof(float));
+        s->match_r = malloc((size_t)pb->count * sizeof(float));
+        s->match_cap = s->match && s->match_w && s->match_r ? pb->count : 0;
+        if (!s->match_cap)
+            return -FIT_ERR_NOMEM;
+    }
+    s->match_n = 0;
     for (int it = 0; it <= pb->iterations; ++it) {
         body_joint_transforms(&s->m->sk, pose, f.skin, f.joints);
         fit_model_pose(s->m, pose, s->pos, NULL);
@@ -407,10 +423,12 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
     return 0;
 }
 
-void fit_solver_part_offsets(const fit_solver *s, double off[3], int n[3])
+fit_matches fit_solver_matches(const fit_solver *s)
 {
-    for (int k = 0; k < 3; ++k) {
-        n[k] = s->part_n[k];
-        off[k] = s->part_n[k] ? s->part_off[k] / s->part_n[k] : 0.0;
-    }
+    return (fit_matches){.vertex = s->match,
+                         .weight = s->match_w,
+                         .resid = s->match_r,
+                         .pos = s->pos,
+                         .nrm = s->nrm,
+                         .count = s->match_n};
 }

@@ -90,7 +90,8 @@ enum {
     FIT_DOUBT_FREE_SPACE = 2,  /* too much of the model where the camera sees through */
     FIT_DOUBT_OUT_OF_VIEW = 4, /* the person reaches the image's left or right border */
     FIT_DOUBT_LIMITS = 8,      /* joints held at their limits by the fit */
-    FIT_DOUBT_SIDE_ON = 16     /* the body turned side-on: shoulders and hips seen edge-on */
+    FIT_DOUBT_SIDE_ON = 16,    /* the body turned side-on: shoulders and hips seen edge-on */
+    FIT_DOUBT_LOST_PART = 32   /* unexplained points lying together: a limb left behind */
 };
 
 /* The causes' names, space-separated ("UNEXPLAINED LIMITS"), into buf. */
@@ -132,6 +133,7 @@ typedef struct fit_result {
      * space, and the causes found this frame (FIT_DOUBT_* bits); a doubtful fit is published
      * with state INIT, not TRACKING, until it has been sound for a few frames again. */
     float explained, free_space;
+    int unexplained_cluster; /* the most unexplained points lying together (a lost limb) */
     unsigned doubt;
     double ms_segment, ms_fit, ms_skin;
 } fit_result;

@@ -39,12 +39,22 @@
 #define TRACK_DOUBT_FREE_SPACE 0.15f
 #define TRACK_DOUBT_CLAMPED    4 /* more pose parameters held at their joint limits */
 #define TRACK_SOUND_FRAMES     3
+/* Unexplained points this close to each other are one cluster (the ~400 points lie about
+ * 4-5 cm apart on a person at 2.5 m). */
+#define TRACK_CLUSTER_RADIUS_M 0.06f
+/* This many of them together: a limb left behind (headline set, frames published tracking:
+ * 9 of the 17 bad ones have 3 or more, 4 of the 507 good ones). */
+#define TRACK_DOUBT_CLUSTER 3
 /* A fit explaining fewer of the points than this for TRACK_RESTART_FRAMES frames in a row, with
  * the person in view, has lost a part of the body for good (an arm fitted into the chest after
  * stepping half out of view explains 81-84 % of the points; crossed arms 92-99 %): the pose
  * starts again from the rest pose on the next frame, the shape kept. */
 #define TRACK_RESTART_EXPLAINED 0.90f
 #define TRACK_RESTART_FRAMES    10
+/* A limb left behind that the shoulder's turn has not brought back for this many frames in a
+ * row restarts the pose too (after crossed arms an arm kept inside the chest left its points
+ * unexplained, together, for good; the fast swing's arm comes back within 9). */
+#define TRACK_RESTART_LOST_PART_FRAMES 15
 /* Turned further than this from the camera, a single depth view sees the shoulders and hips
  * edge-on and one arm not at all (cos 60 degrees: the turn recordings' error rises past it). */
 #define TRACK_DOUBT_FACING_COS 0.5f
@@ -67,14 +77,17 @@ struct fit_tracker {
     fit_pose pose, prev, last; /* last: the pose fitted the frame before pose */
     fit_shape shape;
     fit_shape_base base_coarse, base_full;
-    float scale, offset[FIT_SHAPE_PARTS];
+    fit_shape_q q;        /* the shape's degrees of freedom (fit_shape_adapt.c) */
+    float *shape_scratch; /* fit_shape_step's posed coarse meshes */
     int have_pose, have_last, person_frames, topology_id;
+    int shape_learnt; /* frames the shape has learnt from at the fast gain */
     double height_sum;
     int height_n;
-    fit_smoother smooth; /* the published pose only */
-    float rms_base;      /* the fit's RMS while sound, mm per m^2 of distance (0: none yet) */
-    int sound_frames;    /* sound fits in a row (TRACK_SOUND_FRAMES for a new person) */
-    int failing_frames;  /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
+    fit_smoother smooth;  /* the published pose only */
+    float rms_base;       /* the fit's RMS while sound, mm per m^2 of distance (0: none yet) */
+    int sound_frames;     /* sound fits in a row (TRACK_SOUND_FRAMES for a new person) */
+    int failing_frames;   /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
+    int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
 };
 
@@ -158,10 +171,12 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
         return NULL;
     }
     t->topology_id = 1;
-    t->scale = 1.0f;
+    t->q = fit_shape_q_identity();
     t->sound_frames = TRACK_SOUND_FRAMES;
     track_smooth_levers(t);
-    if (fit_shape_base_init(&t->base_coarse, t->coarse) ||
+    t->shape_scratch = malloc((size_t)FIT_SHAPE_DOF * (size_t)fit_model_vertex_count(t->coarse) *
+                              3 * sizeof(float));
+    if (!t->shape_scratch || fit_shape_base_init(&t->base_coarse, t->coarse) ||
         fit_shape_base_init(&t->base_full, t->full)) {
         if (err)
             snprintf(err, errlen, "fit_tracker_create: out of memory");
@@ -184,6 +199,7 @@ void fit_tracker_destroy(fit_tracker *t)
     free(t->verts);
     free(t->pts);
     free(t->nearest);
+    free(t->shape_scratch);
     free(t);
 }
 
@@ -241,62 +257,115 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
 }
 
 /* Shape: the height from the top of the person over the first shape_frames frames (unless the
- * head reaches the top row; the feet often touch the bottom one), every length and girth scaled
- * with it; then each part's girth from the mean signed offset of its points, fast over the first
- * frames and slowly after (a person does not change shape between frames). The mesh keeps its
- * topology (fit_shape_adapt.c). */
-#define TRACK_OFFSET_GAIN_INIT  0.5f
-#define TRACK_OFFSET_GAIN_AFTER 0.02f
-#define TRACK_OFFSET_MAX_M      0.04f
-#define TRACK_OFFSET_MIN_POINTS 20
+ * head reaches the top row; the feet often touch the bottom one); then the rest of the shape's
+ * degrees of freedom (leg and arm length, shoulder width, five girths) by a Gauss-Newton step a
+ * frame on the pose fit's correspondences, fast over the first frames and slowly after (a
+ * person does not change shape between frames). The mesh keeps its topology
+ * (fit_shape_adapt.c, fit_shape_step.c). */
+#define TRACK_SHAPE_GAIN_INIT  0.5f
+#define TRACK_SHAPE_GAIN_AFTER 0.02f /* per frame, applied every TRACK_SHAPE_EVERY frames */
+/* After the first frames the shape is refined every 8th frame only, with 8 frames' gain: the
+ * same rate, at an eighth of the cost (the step re-poses the coarse mesh 8 times; +0.6-1.3 ms
+ * of CPU a frame when every frame took one). */
+#define TRACK_SHAPE_EVERY 8
 
 static void track_shape_apply(fit_tracker *t)
 {
-    fit_shape_base_apply(&t->base_coarse, t->coarse, t->scale, t->offset);
-    fit_shape_base_apply(&t->base_full, t->full, t->scale, t->offset);
-    t->shape = fit_shape_adapted(&t->base_full, t->scale, t->offset);
+    fit_shape_base_apply(&t->base_coarse, t->coarse, &t->q);
+    fit_shape_base_apply(&t->base_full, t->full, &t->q);
+    t->shape = fit_shape_adapted(&t->base_full, &t->q);
 }
 
 static void track_shape_reset(fit_tracker *t)
 {
-    t->scale = 1.0f;
-    t->offset[0] = t->offset[1] = t->offset[2] = 0.0f;
+    t->q = fit_shape_q_identity();
     t->height_sum = 0.0;
     t->height_n = 0;
     if (!t->d.fixed_shape)
         track_shape_apply(t);
 }
 
+/* The square of the person's distance along the optical axis, m^2 (at least 0.25: 0.5 m). */
+static float track_distance2(const fit_segment *sg, const fit_depth_view *v)
+{
+    const float *m = v->camera_to_world;
+    float d[3] = {sg->centroid[0] - m[3], sg->centroid[1] - m[7], sg->centroid[2] - m[11]};
+    float z = m[2] * d[0] + m[6] * d[1] + m[10] * d[2];
+    return z > 0.5f ? z * z : 0.25f;
+}
+
 /* Before the fit of a person's first frames: the height from the top of the points, so the
  * frame is fitted with it (after the fit, the model would grow under a placed pose). */
-static void track_height_update(fit_tracker *t, const fit_segment *sg)
+static void track_height_update(fit_tracker *t, const fit_segment *sg, const fit_depth_view *v)
 {
     if (t->d.fixed_shape || t->person_frames >= t->d.shape_frames || sg->touches_top)
         return;
-    t->height_sum += sg->top_y;
+    /* The segmentation drops the outermost sample of every silhouette as a possible flying
+     * pixel, the crown's too: the head reaches one sample spacing higher than its top point
+     * (without the drop the average's height was 4 mm short, with it 18 mm). */
+    float spacing = (float)sg->stride * sqrtf(track_distance2(sg, v)) / v->fy;
+    t->height_sum += sg->top_y + spacing;
     t->height_n++;
     float h = (float)(t->height_sum / t->height_n), lo, hi;
     fit_shape_param_range(0, &lo, &hi);
     h = h < lo ? lo : (h > hi ? hi : h);
-    t->scale = h / t->base_full.shape.height;
+    t->q.scale = h / t->base_full.shape.height;
     track_shape_apply(t);
 }
 
-static void track_shape_update(fit_tracker *t)
+static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points)
 {
-    int init = t->person_frames <= t->d.shape_frames;
-    double off[FIT_SHAPE_PARTS];
-    int n[FIT_SHAPE_PARTS];
-    fit_solver_part_offsets(t->solver, off, n);
-    float gain = init ? TRACK_OFFSET_GAIN_INIT : TRACK_OFFSET_GAIN_AFTER;
-    for (int k = 0; k < FIT_SHAPE_PARTS; ++k) {
-        if (n[k] < TRACK_OFFSET_MIN_POINTS)
-            continue;
-        float o = t->offset[k] + gain * (float)off[k];
-        t->offset[k] = o < -TRACK_OFFSET_MAX_M ? -TRACK_OFFSET_MAX_M
-                                               : (o > TRACK_OFFSET_MAX_M ? TRACK_OFFSET_MAX_M : o);
+    int init = t->shape_learnt < t->d.shape_frames;
+    if (!init && (t->shape_learnt - t->d.shape_frames) % TRACK_SHAPE_EVERY)
+        return;
+    float gain = init ? TRACK_SHAPE_GAIN_INIT : TRACK_SHAPE_EVERY * TRACK_SHAPE_GAIN_AFTER;
+    if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
+                       &t->q) == 0)
+        track_shape_apply(t);
+}
+
+/* A person's first frame: the shape and the pose fitted in turns, so that the shape moves the
+ * published joints on this frame rather than over the next ones (jitter standing still). */
+#define TRACK_SHAPE_FIRST_ROUNDS                                                                   \
+    4 /* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 */
+static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st)
+{
+    int rc = 0;
+    pb->iterations = t->d.iterations;
+    pb->max_match_m = TRACK_GATE_TRACK_M;
+    for (int k = 0; k < TRACK_SHAPE_FIRST_ROUNDS && !rc; ++k) {
+        track_shape_update(t, pose, pb->points);
+        rc = fit_solve(t->solver, pb, pose, st);
     }
-    track_shape_apply(t);
+    return rc;
+}
+
+/* The unexplained points' largest cluster; when it is a limb left behind, the arm nearest it
+ * is turned to point at it and the fit run again, and the pose that explains more points is
+ * kept (fit_limb.c). *fitted: 0 when the solver's matches are the rejected try's. */
+static int track_find_limb(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st,
+                           int fresh, int *fitted)
+{
+    float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M, at[3];
+    fit_matches mt = fit_solver_matches(t->solver);
+    int cluster = fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
+    if (fresh || cluster < TRACK_DOUBT_CLUSTER)
+        return cluster;
+    fit_pose alt = *pose;
+    fit_stats st2;
+    fit_limb_reaim(t->coarse, &alt, at);
+    if (fit_solve(t->solver, pb, &alt, &st2)) {
+        *fitted = 0;
+        return cluster;
+    }
+    if (st2.explained <= st->explained) {
+        *fitted = 0;
+        return cluster;
+    }
+    *pose = alt;
+    *st = st2;
+    mt = fit_solver_matches(t->solver);
+    return fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
 }
 
 static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *before, float g)
@@ -311,8 +380,8 @@ static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *be
 
 void fit_doubt_names(unsigned doubt, char *buf, size_t len)
 {
-    static const char *const names[] = {"UNEXPLAINED", "FREE_SPACE", "OUT_OF_VIEW", "LIMITS",
-                                        "SIDE_ON"};
+    static const char *const names[] = {"UNEXPLAINED", "FREE_SPACE", "OUT_OF_VIEW",
+                                        "LIMITS",      "SIDE_ON",    "LOST_PART"};
     size_t n = 0;
     if (len)
         buf[0] = '\0';
@@ -321,15 +390,6 @@ void fit_doubt_names(unsigned doubt, char *buf, size_t len)
             int w = snprintf(buf + n, len - n, "%s%s", n ? " " : "", names[k]);
             n += w > 0 ? (size_t)w : 0;
         }
-}
-
-/* The square of the person's distance along the optical axis, m^2 (at least 0.25: 0.5 m). */
-static float track_distance2(const fit_segment *sg, const fit_depth_view *v)
-{
-    const float *m = v->camera_to_world;
-    float d[3] = {sg->centroid[0] - m[3], sg->centroid[1] - m[7], sg->centroid[2] - m[11]};
-    float z = m[2] * d[0] + m[6] * d[1] + m[10] * d[2];
-    return z > 0.5f ? z * z : 0.25f;
 }
 
 /* The causes found in this frame's fit (FIT_DOUBT_* bits); a sound fit updates the person's RMS. */
@@ -362,13 +422,16 @@ static unsigned track_doubt(fit_tracker *t, const fit_stats *st, const fit_segme
         d |= FIT_DOUBT_OUT_OF_VIEW;
     if (st->clamped >= TRACK_DOUBT_CLAMPED)
         d |= FIT_DOUBT_LIMITS;
+    if (r->unexplained_cluster >= TRACK_DOUBT_CLUSTER)
+        d |= FIT_DOUBT_LOST_PART;
     if (!d || t->rms_base <= 0.0f)
         t->rms_base =
             t->rms_base > 0.0f ? t->rms_base + TRACK_RMS_BASE_GAIN * (rms - t->rms_base) : rms;
     t->sound_frames = d ? 0 : t->sound_frames + 1;
-    int failing = r->explained < TRACK_RESTART_EXPLAINED &&
-                  !(d & (FIT_DOUBT_OUT_OF_VIEW | FIT_DOUBT_SIDE_ON));
+    int in_view = !(d & (FIT_DOUBT_OUT_OF_VIEW | FIT_DOUBT_SIDE_ON));
+    int failing = r->explained < TRACK_RESTART_EXPLAINED && in_view;
     t->failing_frames = failing ? t->failing_frames + 1 : 0;
+    t->lost_part_frames = (d & FIT_DOUBT_LOST_PART) && in_view ? t->lost_part_frames + 1 : 0;
     return d;
 }
 
@@ -381,9 +444,11 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     t->have_last = 0;
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
+    t->shape_learnt = 0;
     t->rms_base = 0.0f;
     t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
     t->failing_frames = 0;
+    t->lost_part_frames = 0;
     out->state = FIT_STATE_LOST;
     out->error = e;
     if (why && why != out->message)
@@ -422,7 +487,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->ms_segment = now_ms() - t0;
     double t1 = now_ms();
     int fresh = !t->have_pose;
-    track_height_update(t, &sg);
+    track_height_update(t, &sg, v);
     if (fresh)
         track_initial_pose(t, &sg, v);
     float z2 = track_distance2(&sg, v);
@@ -446,6 +511,11 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = fit_solve(t->solver, &pb, &pose, &st);
+    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && !sg.touches_side &&
+        track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
+        rc = track_shape_first(t, &pb, &pose, &st);
+    int matches_fitted = 1; /* the solver's matches are those of the pose kept */
+    out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = now_ms() - t1;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
@@ -464,12 +534,16 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     t->pose = pose;
     t->have_pose = 1;
     t->person_frames++;
-    /* The first frames estimate the shape whatever the doubt; after them a doubtful fit does not
-     * teach the shape (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm;
-     * part_out, enter_leave, turn s2 1-2 mm better too; fast_swing s1 65 -> 92 mm worse: its
-     * arm is lost either way, docs/bodyfit.md). */
-    if (!t->d.fixed_shape && (!out->doubt || t->person_frames <= t->d.shape_frames))
-        track_shape_update(t);
+    /* The first frames estimate the shape whatever the doubt, unless the body is seen side-on or
+     * cut by the image's side (walking in: the lengths learnt from a side view left the joints
+     * 40-44 mm off once facing the camera); after them a doubtful fit does not teach the shape
+     * (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm). */
+    unsigned partial = FIT_DOUBT_SIDE_ON | FIT_DOUBT_OUT_OF_VIEW;
+    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) &&
+        (!out->doubt || t->person_frames <= t->d.shape_frames)) {
+        track_shape_update(t, &t->pose, t->pts);
+        t->shape_learnt++;
+    }
     double t2 = now_ms();
     t->published = t->pose;
     if (fresh)
@@ -488,9 +562,10 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->triangles = fit_model_triangles(t->full);
     out->triangle_count = fit_model_triangle_count(t->full);
     out->topology_id = t->topology_id;
-    if (t->failing_frames >= TRACK_RESTART_FRAMES) { /* this body is published, then restart */
+    if (t->failing_frames >= TRACK_RESTART_FRAMES ||
+        t->lost_part_frames >= TRACK_RESTART_LOST_PART_FRAMES) { /* publish this, then restart */
         t->have_pose = t->have_last = 0;
-        t->failing_frames = 0;
+        t->failing_frames = t->lost_part_frames = 0;
     }
     return FIT_FRAME_OK;
 }

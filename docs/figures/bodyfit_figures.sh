@@ -3,14 +3,15 @@
 # runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
 # $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
-#        fails tradeoffs smooth cloth pipeline; all by default; a section left out keeps its data
-#        from an earlier run)
+#        fails tradeoffs smooth cloth pipeline shape alternate; all by default; a section left
+#        out keeps its data from an earlier run; alternate builds FIT_BASE_COMMIT, default
+#        928233b, the build before the shape's degrees of freedom, in BUILD_DIR/fit-base)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
 B=${1:-build}
 [ $# -gt 0 ] && shift
-SECTIONS=${*:-headline sweep fails tradeoffs smooth cloth pipeline}
+SECTIONS=${*:-headline sweep fails tradeoffs smooth cloth pipeline shape alternate}
 want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/bodyfit/tryon-bench-fit
 SYNTH=$B/recordings/tryon-synth
@@ -40,6 +41,47 @@ if want headline; then
   # run to run: the same run twice must print the same errors
   "$BENCH" "$REC/walk_s0_$FRAMES" | tail -n 1 > "$OUT/determinism.jsonl"
   "$BENCH" "$REC/walk_s0_$FRAMES" | tail -n 1 >> "$OUT/determinism.jsonl"
+fi
+
+# 1b. where the shape error comes from: standing still, slim_tall and broad_short, fitted with
+#     the estimated shape, with the true shape held (--true-shape), and with the true shape but
+#     one parameter the average's (--true-shape-except K, K in fit_shape order): what each
+#     parameter's error costs; one line per setting, "setting s1 surface joints s2 surface joints"
+if want shape; then
+  : > "$OUT/shape.txt"
+  for k in estimated true 0 1 2 3 4 5 6 7 8; do
+    case $k in
+      estimated) args="" ;;
+      true) args="--true-shape" ;;
+      *) args="--true-shape-except $k" ;;
+    esac
+    # shellcheck disable=SC2086 # args are words
+    "$BENCH" $args "$(rec still 1)" "$(rec still 2)" 2>/dev/null |
+      awk -v k="$k" '/^still_/ { r = r " " $1 " " $7 " " $8 } END { print k r }' \
+      >> "$OUT/shape.txt"
+  done
+fi
+
+# 1c. speed against an earlier build on the same recordings, alternated three times (a busy
+#     machine's load changes within minutes; the errors are deterministic, the times are not)
+if want alternate; then
+  base=$B/fit-base
+  if [ ! -x "$base/build/bodyfit/tryon-bench-fit" ]; then
+    rm -rf "$base" && mkdir -p "$base"
+    git -C "$FIG/../.." archive "${FIT_BASE_COMMIT:-928233b}" | tar -x -C "$base"
+    cmake -S "$base" -B "$base/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$base/build" -j2 --target tryon-bench-fit >/dev/null
+  fi
+  set --
+  for m in still arm_raise turn walk fast_swing occlusion; do
+    for s in 0 1 2; do set -- "$@" "$(rec $m $s)"; done
+  done
+  : > "$OUT/alternate.txt"
+  for i in 1 2 3; do
+    for b in "$base/build/bodyfit/tryon-bench-fit" "$BENCH"; do
+      echo "$b load $(cut -d' ' -f1 /proc/loadavg) $("$b" "$@" | tail -n 1)" >> "$OUT/alternate.txt"
+    done
+  done
 fi
 
 # 2. sweeps: points used, iterations, coarse mesh resolution (walk, fast swing, turn, one shape
