@@ -74,12 +74,18 @@ static int mesh_to(const gar_pattern *p, int target, gar_mesh *m, float *spacing
     gar_mesh_desc md = {.spacing_m = SIM_PATTERN_DEFAULT_SPACING_M};
     int r = gar_mesh_build(p, &md, m, gw);
     for (int pass = 0; r == 0 && target > 0 && pass < 2; pass++) {
-        float h = md.spacing_m * sqrtf((float)m->num_vertices / (float)target);
-        if (fabsf(h - md.spacing_m) < 0.01f * md.spacing_m)
+        float good = md.spacing_m, h = good * sqrtf((float)m->num_vertices / (float)target);
+        if (fabsf(h - good) < 0.01f * good)
             break;
         md.spacing_m = h;
         gar_mesh_free(m);
+        if (gar_mesh_build(p, &md, m, gw) == 0)
+            continue;
+        /* a target the mesher cannot reach (a spacing out of its range, too many points): the
+           last mesh it made */
+        md.spacing_m = good;
         r = gar_mesh_build(p, &md, m, gw);
+        break;
     }
     *spacing_m = md.spacing_m;
     return r;
