@@ -18,6 +18,7 @@
 
 #include "bodyfit.h"
 #include "outfit_pattern.h"
+#include "pattern_weld.h"
 #include "sim.h"
 
 #define FRAMES 8
@@ -207,6 +208,67 @@ static void test_skirt_stands(void **state)
             FRAMES, 2, 0);
 }
 
+/* Two unit squares of two triangles each, side by side with a 1 mm gap (x = 1 and x = 1.001),
+ * sewn along that edge: two point-point joints. Then the right square's edge eased onto the left
+ * one's: its middle vertex joined by a point-edge joint to the nearer end. */
+static void test_weld_sews_seams(void **state)
+{
+    (void)state;
+    float xyz[] = {0,      0, 0, 1, 0, 0, 1, 1, 0, 0,      1, 0,
+                   1.001f, 0, 0, 2, 0, 0, 2, 1, 0, 1.001f, 1, 0};
+    int32_t tris[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    gar_joint joints[] = {{.a = 4, .b0 = 1, .b1 = 1}, {.a = 7, .b0 = 2, .b1 = 2}};
+    int8_t part[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    gar_mesh m = {.num_vertices = 8,
+                  .xyz = xyz,
+                  .num_triangles = 4,
+                  .triangles = tris,
+                  .num_joints = 2,
+                  .joints = joints};
+    sim_garment g = {0};
+    sim_reject why = {0};
+    assert_int_equal(sim_pattern_weld(&m, &g, part, &why), 0);
+    assert_int_equal(g.num_vertices, 6); /* 4 and 7 joined 1 and 2 */
+    assert_int_equal(g.num_triangles, 4);
+    assert_float_equal(g.xyz[1 * 3], 1.0005f, 1e-6f); /* the mean of the two sides */
+    for (int i = 0; i < g.num_triangles * 3; i++)
+        assert_true(g.triangles[i] >= 0 && g.triangles[i] < 6);
+    assert_int_equal(part[4], 1); /* vertex 5 (the right square's) is now vertex 4 */
+    assert_int_equal(openings(&g), 1);
+    sim_garment_free(&g);
+
+    /* a point-edge joint: vertex 8 in the middle of the right square's left edge goes to the
+       nearer end (w 0.4: b0) of the left square's edge; the triangles that lose a corner drop */
+    float xyz2[] = {0, 0, 0, 1, 0, 0, 1, 1,      0, 0, 1,      0,    1.001f, 0,
+                    0, 2, 0, 0, 2, 1, 0, 1.001f, 1, 0, 1.001f, 0.4f, 0};
+    int32_t tris2[] = {0, 1, 2, 0, 2, 3, 4, 5, 8, 8, 5, 6, 8, 6, 7};
+    gar_joint joints2[] = {{.a = 4, .b0 = 1, .b1 = 1},
+                           {.a = 7, .b0 = 2, .b1 = 2},
+                           {.a = 8, .b0 = 1, .b1 = 2, .w = 0.4f}};
+    m = (gar_mesh){.num_vertices = 9,
+                   .xyz = xyz2,
+                   .num_triangles = 5,
+                   .triangles = tris2,
+                   .num_joints = 3,
+                   .joints = joints2};
+    assert_int_equal(sim_pattern_weld(&m, &g, NULL, &why), 0);
+    assert_int_equal(g.num_vertices, 6);
+    assert_int_equal(g.num_triangles, 4); /* (4 5 8) lost a corner: 4 and 8 are both 1 now */
+    sim_garment_free(&g);
+
+    /* every triangle sewn shut: refused by name */
+    gar_joint all[] = {{.a = 1, .b0 = 0, .b1 = 0}, {.a = 2, .b0 = 0, .b1 = 0}};
+    m = (gar_mesh){.num_vertices = 4,
+                   .xyz = xyz,
+                   .num_triangles = 2,
+                   .triangles = tris,
+                   .num_joints = 2,
+                   .joints = all};
+    assert_int_equal(sim_pattern_weld(&m, &g, NULL, &why), -SIM_ERR_EMPTY);
+    assert_non_null(strstr(why.detail, "sewing"));
+    assert_null(g.xyz);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -244,6 +306,7 @@ static void test_refusals(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_weld_sews_seams),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_tshirt_walks),
         cmocka_unit_test(test_skirt_stands),
