@@ -73,6 +73,20 @@ static int8_t *body_limbs(const fit_model *m)
     return limb;
 }
 
+/* Each limb's body vertices listed (the limb check scans only its own limb's). 0 or -1. */
+static int index_limbs(bench_pattern *bp)
+{
+    for (int l = 0; l < LIMB_COUNT; l++) {
+        bp->limb_verts[l] = malloc((size_t)bp->body_nv * sizeof *bp->limb_verts[l]);
+        if (!bp->limb_verts[l])
+            return -1;
+        for (int v = 0; v < bp->body_nv; v++)
+            if (bp->limb_of_body[v] == l)
+                bp->limb_verts[l][bp->limb_nv[l]++] = v;
+    }
+    return 0;
+}
+
 int bench_pattern_fabric(const bench_pattern_desc *d, sim_fabric *out, char *err, size_t err_size)
 {
     sim_outfit o;
@@ -130,16 +144,10 @@ bench_pattern *bench_pattern_create(const bench_pattern_desc *d, sim_scene *sc, 
         bench_pattern_destroy(bp);
         return NULL;
     }
-    for (int l = 0; l < LIMB_COUNT; l++) {
-        bp->limb_verts[l] = malloc((size_t)nv * sizeof *bp->limb_verts[l]);
-        if (!bp->limb_verts[l]) {
-            snprintf(err, err_size, "out of memory");
-            bench_pattern_destroy(bp);
-            return NULL;
-        }
-        for (int v = 0; v < nv; v++)
-            if (bp->limb_of_body[v] == l)
-                bp->limb_verts[l][bp->limb_nv[l]++] = v;
+    if (index_limbs(bp) < 0) {
+        snprintf(err, err_size, "out of memory");
+        bench_pattern_destroy(bp);
+        return NULL;
     }
     bench_pattern_info *in = &bp->info;
     *in = (bench_pattern_info){.dress_ms = ps.dress_ms,
