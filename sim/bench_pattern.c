@@ -91,10 +91,10 @@ int bench_pattern_fabric(const bench_pattern_desc *d, sim_fabric *out, char *err
 {
     sim_outfit o;
     sim_reject why = {0};
-    if (sim_outfit_resolve(d->path, (int)d->size, d->fabric ? d->fabric : "", &o, &why) < 0 ||
-        !o.is_pattern) {
+    int r = sim_outfit_resolve(d->path, (int)d->size, d->fabric ? d->fabric : "", &o, &why);
+    if (r < 0 || !o.is_pattern) {
         snprintf(err, err_size, "--garment %s: %s", d->path,
-                 o.is_pattern ? why.detail : "not a sewing pattern (.json)");
+                 r < 0 ? why.detail : "not a sewing pattern (.json)");
         return -1;
     }
     *out = o.fabric;
