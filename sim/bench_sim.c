@@ -572,6 +572,8 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-mu%g", o->desc.friction);
     if (o->desc.damping != 0.0f && o->desc.damping != dd.damping)
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-damp%g", o->desc.damping);
+    if (o->desc.thickness_m != 0.0f && o->desc.thickness_m != dd.thickness_m) /* --thickness */
+        snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-th%g", o->desc.thickness_m);
     if (ref_body(o) != o->body_verts) /* the same garment on a body of other detail */
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-body%d", ref_body(o));
     snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x%s.bin", o->cache_dir,
