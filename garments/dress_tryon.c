@@ -27,8 +27,6 @@
  * draping (the garment must still settle in a few tenths of a second). */
 #define GAR_TRYON_SEAM_DAMPING_PER_S  20.0f
 #define GAR_TRYON_DRAPE_DAMPING_PER_S 6.0f
-/* Cloth kept this far outside the body (the penetration metric allows 1 mm inside). */
-#define GAR_TRYON_THICKNESS_M 0.003f
 /* Contacts searched every this many steps (the reach, 3 cm, covers the motion in between). */
 #define GAR_TRYON_CONTACT_EVERY 4
 /* Cloth-cloth between panels every this many steps, pushing to this distance. */

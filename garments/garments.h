@@ -196,6 +196,11 @@ typedef struct gar_dress_stats {
 /* Dresses m (its xyz placed: gar_mesh_place) on the body in its rest pose. */
 int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const struct fit_model *body,
                    const gar_dress_desc *desc, gar_dress_stats *stats, gar_reject *why);
+/* Cloth kept this far outside the body by tryon's dressing (the penetration metric allows 1 mm
+ * inside); the sim wearing a dressed pattern keeps the same, or its contacts push the cloth out
+ * by the difference where it lies on the body and stretch it round the arms (sim/outfit_pattern.h,
+ * docs/garments.md "Pattern garments on the moving body"). */
+#define GAR_TRYON_THICKNESS_M 0.003f
 /* tryon's own dressing (dress_tryon.c): sim/'s XPBD in small steps (desc->dt_s, 0 = 2 ms),
  * the seams as zero-length constraints closed progressively (no gravity), exact cloth-body
  * contacts from sim/'s BVH, then desc->drape_steps (0 = 150) with gravity. max_seaming_s:

@@ -11,6 +11,10 @@
 #include "collide_bvh.h"
 #include "scene.h"
 #include "sim.h"
+#ifdef BENCH_HAVE_PATTERN
+#include "bench_pattern.h"
+#include "outfit_pattern.h"
+#endif
 
 #define BENCH_SETTLE_FRAMES  30  /* strain and error are judged after the first second */
 #define BENCH_REF_EVERY      10  /* the reference keeps every tenth frame */
@@ -20,6 +24,7 @@
  * near the reference on the 10,000-vertex body as on its own (docs/sim.md, "Body detail and
  * the shape error"). */
 #define BENCH_BODY_VERTS 6000
+#define BENCH_LIMB_EVERY 5 /* a pattern's limb check (bench_pattern.h), every 5th frame */
 /* In the reference cache's file names: raise it with every change to the solver's results or to
  * the scenes' motions, so that no reference of another model is reused. */
 #define BENCH_REF_VERSION 9
@@ -30,6 +35,10 @@ typedef struct bench_opts {
     sim_desc desc;
     int no_ref, window_ref, window_frames;
     float hem_m; /* the shirt's hem below the pelvis joint (sim_garment_shirt; 0: its default) */
+    /* --garment PATTERN.json [--size] [--fabric] (bench_pattern.h): worn instead of the shirt */
+    const char *garment, *fabric;
+    int size;
+    struct bench_pattern *pattern; /* dressed once in main */
 } bench_opts;
 
 typedef struct bench_run {
@@ -43,6 +52,9 @@ typedef struct bench_run {
     int nv, nsnap, diverged_frames;
     int body_nv; /* the body's vertices (the sphere's for the drape) */
     char device[96];
+    /* a pattern garment: the fraction of its limb panels' vertices near their limbs, after the
+       settling frames (worst frame) and on the first frame (-1: no such panels) */
+    float arm_near_min, leg_near_min, arm_near_first, leg_near_first;
 } bench_run;
 
 /* The machine's CPU ticks so far, all and stolen (by the hypervisor: a virtual machine's cores
@@ -75,6 +87,9 @@ static void usage(FILE *f)
         "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME|FILE.bvh]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
         "         [--friction MU (< 0: none)] [--damping D (per second, < 0: none)]\n"
+        "         [--thickness M (contacts; default 0.004, a --garment the dressing's 0.003)]\n"
+        "         [--garment PATTERN.json [--size S|M|L] [--fabric NAME] (body scene: a sewing\n"
+        "          pattern dressed on the body instead of the shirt, meshed to about --verts)]\n"
         "         [--support 0|-1 (garments without attachments: the support hierarchy on|off)]\n"
         "         [--strain-limit S (the clamp, default 0.0075)]\n"
         "         [--strain-retry 0|-1 (frames over 3 %% max / 1 %% p99 strain redone: on|off)]\n"
@@ -125,6 +140,38 @@ static int make_dirs(const char *dir)
     return stat(p, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
 }
 
+/* --garment: the pattern's fabric for the sim (--stretch and --bend still override it). */
+static int pattern_fabric(bench_opts *o, int body)
+{
+    if (!o->garment && !o->fabric)
+        return 0;
+    if (!body || !o->garment) {
+        fprintf(stderr,
+                "tryon-bench-sim: --garment PATTERN.json (and --fabric) need --scene body\n");
+        return -1;
+    }
+#ifdef BENCH_HAVE_PATTERN
+    sim_fabric f, given = o->desc.fabric, dflt = sim_default_desc().fabric;
+    char err[300] = "";
+    bench_pattern_desc d = {.path = o->garment, .size = (sim_size)o->size, .fabric = o->fabric};
+    if (bench_pattern_fabric(&d, &f, err, sizeof err) < 0) {
+        fprintf(stderr, "tryon-bench-sim: %s\n", err);
+        return -1;
+    }
+    if (given.stretch_n_m != dflt.stretch_n_m)
+        f.stretch_n_m = given.stretch_n_m;
+    if (given.bend_n_m != dflt.bend_n_m)
+        f.bend_n_m = given.bend_n_m;
+    o->desc.fabric = f;
+    if (o->desc.thickness_m == sim_default_desc().thickness_m) /* unless --thickness */
+        o->desc.thickness_m = sim_pattern_thickness_m();
+    return 0;
+#else
+    fprintf(stderr, "tryon-bench-sim: built without garments/: no --garment\n");
+    return -1;
+#endif
+}
+
 static int parse(int argc, char **argv, bench_opts *o)
 {
     *o = (bench_opts){.scene = "drape",
@@ -135,6 +182,7 @@ static int parse(int argc, char **argv, bench_opts *o)
                       .frames = 0,
                       .group = 10,
                       .window_frames = BENCH_REF_EVERY,
+                      .size = SIM_SIZE_M,
                       .cache_dir = default_cache_dir()};
     o->desc = sim_default_desc();
     for (int i = 1; i < argc; i++) {
@@ -169,6 +217,14 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->ref_iterations = atoi(v);
         else if (strcmp(a, "--hem") == 0)
             o->hem_m = (float)atof(v);
+        else if (strcmp(a, "--garment") == 0)
+            o->garment = v;
+        else if (strcmp(a, "--fabric") == 0)
+            o->fabric = v;
+        else if (strcmp(a, "--size") == 0 && strlen(v) == 1 && strchr("SMLsml", v[0]))
+            o->size = v[0] == 'S' || v[0] == 's'   ? SIM_SIZE_S
+                      : v[0] == 'M' || v[0] == 'm' ? SIM_SIZE_M
+                                                   : SIM_SIZE_L;
         else if (strcmp(a, "--window-frames") == 0)
             o->window_frames = atoi(v);
         else if (strcmp(a, "--compare-ref") == 0)
@@ -189,6 +245,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->desc.strain_limit = (float)atof(v);
         else if (strcmp(a, "--friction") == 0)
             o->desc.friction = (float)atof(v);
+        else if (strcmp(a, "--thickness") == 0)
+            o->desc.thickness_m = (float)atof(v);
         else if (strcmp(a, "--damping") == 0)
             o->desc.damping = (float)atof(v);
         else if (strcmp(a, "--bend") == 0)
@@ -211,6 +269,8 @@ static int parse(int argc, char **argv, bench_opts *o)
         i += used;
     }
     int body = strcmp(o->scene, "body") == 0;
+    if (pattern_fabric(o, body) < 0)
+        return -1;
     if (!o->cache_dir) {
         fprintf(stderr, "tryon-bench-sim: no cache directory: set HOME, TRYON_CACHE_DIR or "
                         "--cache-dir DIR\n");
@@ -255,11 +315,66 @@ static int make_scene(const bench_opts *o, sim_scene **sc, sim_garment *g)
     int nv, nt;
     sim_reject why = {0};
     sim_scene_eval(*sc, 0.0, &xyz, &nv, &tris, &nt, &joints);
+#ifdef BENCH_HAVE_PATTERN
+    if (o->pattern)
+        return bench_pattern_garment(o->pattern, g);
+#endif
     if (sim_garment_shirt(xyz, nv, tris, nt, joints, o->verts, 0.0f, o->hem_m, g, &why) < 0) {
         fprintf(stderr, "tryon-bench-sim: shirt: %s: %s\n", sim_error_name(why.code), why.detail);
         return -1;
     }
     return 0;
+}
+
+/* A pattern garment's start (bench_pattern.h): brought from the rest pose to the scene's first
+ * body (bench_pattern_turn_in), and for the measured run (measured) a buffer for
+ * the limb check in *limbs_x. */
+static int pattern_start(const bench_opts *o, int measured, sim *s, sim_scene *sc, bench_run *out,
+                         float **limbs_x)
+{
+    out->arm_near_min = out->leg_near_min = out->arm_near_first = out->leg_near_first = -1.0f;
+    *limbs_x = NULL;
+#ifdef BENCH_HAVE_PATTERN
+    if (!o->pattern)
+        return 0;
+    const float *xyz;
+    const int32_t *tris;
+    int nv, nt;
+    sim_reject why = {0};
+    sim_scene_eval(sc, 0.0, &xyz, &nv, &tris, &nt, NULL);
+    if (bench_pattern_turn_in(o->pattern, s, xyz, nv, tris, nt, &why) < 0) {
+        fprintf(stderr, "tryon-bench-sim: settling the pattern: %s: %s\n", sim_error_name(why.code),
+                why.detail);
+        return -1;
+    }
+    if (measured && !(*limbs_x = malloc((size_t)out->nv * 3 * sizeof **limbs_x)))
+        return -1;
+#else
+    (void)o, (void)measured, (void)s, (void)sc;
+#endif
+    return 0;
+}
+
+/* The limb check on frame f (bench_pattern_limbs): the first frame's, and the worst after the
+ * settling frames. */
+static void limbs_measure(const bench_opts *o, sim *s, const float *body_xyz, int body_nv, int f,
+                          float *x, bench_run *out)
+{
+#ifdef BENCH_HAVE_PATTERN
+    float arm, leg;
+    sim_copy_positions(s, x);
+    bench_pattern_limbs(o->pattern, x, body_xyz, body_nv, &arm, &leg);
+    if (f == 0) {
+        out->arm_near_first = arm;
+        out->leg_near_first = leg;
+    }
+    if (f >= BENCH_SETTLE_FRAMES || f == o->frames - 1) {
+        out->arm_near_min = out->arm_near_min < 0 ? arm : fminf(out->arm_near_min, arm);
+        out->leg_near_min = out->leg_near_min < 0 ? leg : fminf(out->leg_near_min, leg);
+    }
+#else
+    (void)o, (void)s, (void)body_xyz, (void)body_nv, (void)f, (void)x, (void)out;
+#endif
 }
 
 /* The scene run with desc, the garment made on the body of --body-verts, the body frames from
@@ -329,6 +444,9 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
                 : -1;
     if (restart && (restart->nv != out->nv || restart->nsnap != out->nsnap))
         r = -1;
+    float *limbs_x = NULL; /* the measured run's cloth for the limb check */
+    if (r == 0 && pattern_start(o, desc == &o->desc, s, sc, out, &limbs_x) < 0)
+        r = -1;
     for (int f = 0; f < o->frames && r == 0; f++) {
         const float *xyz, *joints;
         const int32_t *tris;
@@ -344,6 +462,8 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
             r = -1;
         }
         out->ms[f] = out->st[f].ms_total;
+        if (limbs_x && (f % BENCH_LIMB_EVERY == 0 || f == o->frames - 1))
+            limbs_measure(o, s, xyz, nv, f, limbs_x, out);
         if ((f + 1) % BENCH_REF_EVERY == 0 && (f + 1) / BENCH_REF_EVERY <= out->nsnap) {
             size_t at = (size_t)((f + 1) / BENCH_REF_EVERY - 1) * out->nv * 3;
             sim_copy_positions(s, out->snap + at);
@@ -364,6 +484,7 @@ static int run(const bench_opts *o, const sim_desc *desc, int body_verts, const 
             }
         }
     }
+    free(limbs_x);
     sim_destroy(s);
     sim_scene_destroy(sc);
     return r;
@@ -420,8 +541,8 @@ static int ref_body(const bench_opts *o)
 }
 
 /* The windowed reference: ref_desc(iters) restarted from the measured run's state at every
- * snapshot, so each snapshot is where the reference goes in the BENCH_REF_EVERY frames since the
- * last one from where the run was (docs/sim.md, "Error over a window"). NULL on failure. */
+ * snapshot, so each snapshot is where the reference goes in the BENCH_REF_EVERY frames since
+ * the last one from where the run was (docs/sim.md, "Error over a window"). NULL on failure. */
 static float *window_reference(const bench_opts *o, int iters, const bench_run *measured)
 {
     sim_desc d = ref_desc(o, iters);
@@ -451,6 +572,8 @@ static float *reference(const bench_opts *o, int iters, int nsnap, int *nv, int 
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-mu%g", o->desc.friction);
     if (o->desc.damping != 0.0f && o->desc.damping != dd.damping)
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-damp%g", o->desc.damping);
+    if (o->desc.thickness_m != 0.0f && o->desc.thickness_m != dd.thickness_m) /* --thickness */
+        snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-th%g", o->desc.thickness_m);
     if (ref_body(o) != o->body_verts) /* the same garment on a body of other detail */
         snprintf(limit + strlen(limit), sizeof limit - strlen(limit), "-body%d", ref_body(o));
     snprintf(path, sizeof path, "%s/sim-ref-v%d-%s-%s-%d-%d-%d-%g-%g-%08x%s.bin", o->cache_dir,
@@ -584,10 +707,11 @@ static double surface_d2(const bench_mesh *m, sim_bvh *bvh, const float (*pa)[4]
     return e2;
 }
 
-/* Per snapshot of the snapshot sets a and b: the sum of squared distances (m^2) of each garment's
- * vertices to the other's surface, both ways (the shape's difference without the cloth's sliding
- * along itself; docs/sim.md, "Body detail and the shape error"). NULL when either set or the mesh
- * is missing. Computed once per pair; shape_rms_mm takes the RMS over any motion. */
+/* Per snapshot of the snapshot sets a and b: the sum of squared distances (m^2) of each
+ * garment's vertices to the other's surface, both ways (the shape's difference without the
+ * cloth's sliding along itself; docs/sim.md, "Body detail and the shape error"). NULL when
+ * either set or the mesh is missing. Computed once per pair; shape_rms_mm takes the RMS over
+ * any motion. */
 static double *shape_d2(const bench_mesh *m, const float *a, const float *b, int nsnap)
 {
     sim_bvh bvh;
@@ -757,6 +881,70 @@ static frame_shares shares(const bench_run *r, int frames, int settle)
     return f;
 }
 
+/* --garment: the pattern dressed once on the scene's body (bench_pattern.h). */
+static int make_pattern(bench_opts *o)
+{
+#ifdef BENCH_HAVE_PATTERN
+    char err[300] = "";
+    sim_scene *sc = sim_scene_body(o->motion, o->body_verts, err, sizeof err);
+    bench_pattern_desc d = {.path = o->garment,
+                            .size = (sim_size)o->size,
+                            .fabric = o->fabric,
+                            .target_vertices = o->verts,
+                            .body_verts = o->body_verts};
+    o->pattern = sc ? bench_pattern_create(&d, sc, err, sizeof err) : NULL;
+    sim_scene_destroy(sc);
+    if (!o->pattern) {
+        fprintf(stderr, "tryon-bench-sim: --garment %s: %s\n", o->garment, err);
+        return -1;
+    }
+    bench_pattern_info in;
+    bench_pattern_get_info(o->pattern, &in);
+    printf("pattern %s %s %s: %d vertices (%.1f mm mesh; %d in sleeves, %d in legs), dressed in "
+           "%.0f ms (%.0f in all), seams %.2f mm, %d inside, strain max %.1f %% p99 %.2f %%\n",
+           o->garment, sim_size_name((sim_size)o->size), o->fabric ? o->fabric : "cotton",
+           in.vertices, in.spacing_m * 1e3f, in.arm_vertices, in.leg_vertices, in.dress_ms,
+           in.total_ms, in.seam_gap_mm, in.penetrating, in.max_strain * 100.0f,
+           in.p99_strain * 100.0f);
+    return 0;
+#else
+    (void)o;
+    return -1;
+#endif
+}
+
+static void free_pattern(bench_opts *o)
+{
+#ifdef BENCH_HAVE_PATTERN
+    bench_pattern_destroy(o->pattern);
+    o->pattern = NULL;
+#else
+    (void)o;
+#endif
+}
+
+/* The JSON line's pattern fields (none without --garment). */
+static void print_pattern_json(const bench_opts *o, const bench_run *r)
+{
+#ifdef BENCH_HAVE_PATTERN
+    if (!o->pattern)
+        return;
+    bench_pattern_info in;
+    bench_pattern_get_info(o->pattern, &in);
+    printf(",\"garment\":\"%s\",\"size\":\"%s\",\"fabric\":\"%s\",\"spacing_mm\":%.2f,"
+           "\"dress_ms\":%.1f,\"dress_seam_gap_mm\":%.2f,\"dress_penetrating\":%d,"
+           "\"dress_max_strain\":%.4f,\"dress_p99_strain\":%.4f,\"limb_near_cm\":%.1f,"
+           "\"sleeve_verts\":%d,\"leg_verts\":%d,\"sleeve_near_first\":%.3f,"
+           "\"sleeve_near_min\":%.3f,\"leg_near_first\":%.3f,\"leg_near_min\":%.3f",
+           o->garment, sim_size_name((sim_size)o->size), o->fabric ? o->fabric : "cotton",
+           in.spacing_m * 1e3f, in.dress_ms, in.seam_gap_mm, in.penetrating, in.max_strain,
+           in.p99_strain, BENCH_LIMB_NEAR_M * 100.0f, in.arm_vertices, in.leg_vertices,
+           r->arm_near_first, r->arm_near_min, r->leg_near_first, r->leg_near_min);
+#else
+    (void)o, (void)r;
+#endif
+}
+
 int main(int argc, char **argv)
 {
     bench_opts o;
@@ -769,15 +957,22 @@ int main(int argc, char **argv)
     }
     if (o.frames <= 0 && clip_frames(&o) < 0)
         return 1;
-    if (o.compare_ref > 0)
-        return compare_refs(&o);
+    if (o.garment && make_pattern(&o) < 0)
+        return 1;
+    if (o.compare_ref > 0) {
+        int e = compare_refs(&o);
+        free_pattern(&o);
+        return e;
+    }
     bench_run r;
     /* the share of the machine's time its hypervisor took while the run was timed: a virtual
        machine's slow phases show here (docs/sim.md, "Measured") */
     unsigned long long tot0 = 0, st0 = 0, tot1 = 0, st1 = 0;
     int ticks = cpu_ticks(&tot0, &st0);
-    if (run(&o, &o.desc, o.body_verts, NULL, &r) < 0)
+    if (run(&o, &o.desc, o.body_verts, NULL, &r) < 0) {
+        free_pattern(&o);
         return 1;
+    }
     ticks |= cpu_ticks(&tot1, &st1);
     double steal_pct =
         ticks == 0 && tot1 > tot0 ? 100.0 * (double)(st1 - st0) / (double)(tot1 - tot0) : -1.0;
@@ -824,7 +1019,8 @@ int main(int argc, char **argv)
     float *ref = o.no_ref ? NULL : reference(&o, o.ref_iterations, r.nsnap, &nv_ref, 1);
     double cloth_error_mm = ref ? rms_mm(&o, r.snap, ref, r.nv, r.nsnap, -1) : -1.0;
     /* the reference's own uncertainty: its distance to the reference of half the iterations,
-     * when that one is in the cache (docs/sim.md: the reference does not converge everywhere) */
+     * when that one is in the cache (docs/sim.md: the reference does not converge everywhere)
+     */
     float *half = ref ? reference(&o, o.ref_iterations / 2, r.nsnap, &nv_ref, 0) : NULL;
     double ref_unc_mm = half ? rms_mm(&o, ref, half, r.nv, r.nsnap, -1) : -1.0;
     free(half);
@@ -897,7 +1093,7 @@ int main(int argc, char **argv)
            "\"shape_window_mm\":%.2f,\"shape_window_uncertainty_mm\":%.2f,\"body_verts\":%d,"
            "\"ref_body_verts\":%d,\"window_frames\":%d,\"cpu_steal_pct\":%.1f,"
            "\"pen_free_frames_pct\":%.2f,\"strain_ok_frames_pct\":%.2f,\"carried_frames\":%d,"
-           "\"carried_run\":%d}\n",
+           "\"carried_run\":%d",
            o.scene, strcmp(o.scene, "body") == 0 ? o.motion : "none",
            o.desc.solver == SIM_SOLVER_SEED ? "seed" : "tryon",
            o.desc.backend == SIM_BACKEND_C ? "c" : "opencl", r.device, r.nv, o.iterations, o.frames,
@@ -907,6 +1103,9 @@ int main(int argc, char **argv)
            win_shape_mm, win_shape_unc_mm, r.body_nv, ref_body_nv,
            o.window_ref ? o.window_frames : -1, steal_pct, fs.pen_free_pct, fs.strain_ok_pct,
            fs.carried, fs.carried_run);
+    print_pattern_json(&o, &r);
+    printf("}\n");
     run_free(&r);
+    free_pattern(&o);
     return 0;
 }

@@ -121,11 +121,12 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     sim_garment g = {0};
     sim_reject why = {0};
     sim_pattern_stats ps = {0};
-    int r = a->outfit.is_pattern
-                ? sim_outfit_make_pattern(&a->outfit, b->shape, b->num_shape, b->pose, b->num_pose,
-                                          &g, &ps, &why)
-                : sim_outfit_make(&a->outfit, b->xyz, b->nv, topo->tris, topo->nt,
-                                  b->has_joints ? b->joints : NULL, a->verts, &g, &why);
+    int r =
+        a->outfit.is_pattern
+            ? sim_outfit_make_pattern(&a->outfit, b->shape, b->num_shape, b->pose, b->num_pose,
+                                      b->xyz, b->nv, topo->tris, topo->nt, a->verts, &g, &ps, &why)
+            : sim_outfit_make(&a->outfit, b->xyz, b->nv, topo->tris, topo->nt,
+                              b->has_joints ? b->joints : NULL, a->verts, &g, &why);
     a->fatal = r < 0 && a->outfit.is_file && (!a->outfit.is_pattern || r == -SIM_ERR_FILE);
     if (r == 0 && a->outfit.is_pattern)
         fprintf(stderr,
@@ -139,6 +140,9 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
         return -1;
     }
     a->desc.fabric = a->outfit.fabric;
+    /* a pattern keeps the dressing's contact thickness (outfit_pattern.h) */
+    a->desc.thickness_m =
+        a->outfit.is_pattern ? sim_pattern_thickness_m() : sim_default_desc().thickness_m;
     if (a->backend_auto)
         auto_backend(a, &g, b, topo);
     a->sim = sim_create(&a->desc, &g, &why);
@@ -436,7 +440,8 @@ static int usage(FILE *f, int rc)
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
             "  --garment FILE.json: a sewing pattern (garments/patterns), dressed on the body\n"
-            "          model of the first body's shape and pose; needs BODY's shape and pose\n"
+            "          model of the first body's shape and pose; needs BODY's shape and pose;\n"
+            "          meshed to about --verts vertices\n"
             "  --size S|M|L: the garment's size (default M)\n"
             "  CONTROL messages switch the garment (shirt, tunic, FILE.obj, FILE.json), size and\n"
             "          fabric\n"

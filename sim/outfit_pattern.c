@@ -12,6 +12,8 @@
 #include "carry.h"
 #include "garments.h"
 #include "outfit_pattern.h"
+#include "pattern_hold.h"
+#include "pattern_weld.h"
 
 static double now_ms(void)
 {
@@ -30,21 +32,19 @@ static float (*padded(const float *xyz, int n))[4]
     return p;
 }
 
-/* The dressed mesh moved with the model from rest to pose (sim/carry.c: each point with the
- * body vertex nearest it, turned as that vertex's triangle turned). */
-static int carry_to_pose(const fit_model *body, const fit_pose *pose, gar_mesh *m, sim_reject *why)
+/* The dressed mesh moved with the model from rest to the posed vertices (the model's topology;
+ * sim/carry.c: each point with the body vertex nearest it, turned as that vertex's triangle
+ * turned). */
+static int carry_to(const fit_model *body, const float *posed, gar_mesh *m, sim_reject *why)
 {
     int nv = fit_model_vertex_count(body), nt = fit_model_triangle_count(body);
-    float *posed = malloc((size_t)nv * 3 * sizeof *posed);
-    float joints[FIT_JOINT_COUNT * 3];
     float(*from)[4] = padded(fit_model_rest_vertices(body), nv);
+    float(*to)[4] = padded(posed, nv);
     float(*x)[4] = padded(m->xyz, m->num_vertices);
     int32_t(*tris)[4] = malloc((size_t)nt * sizeof *tris);
     sim_carry *c = sim_carry_create(nv);
-    float(*to)[4] = NULL;
     int r = -1;
-    if (posed && from && x && tris && c && fit_model_pose(body, pose, posed, joints) == 0 &&
-        (to = padded(posed, nv))) {
+    if (from && to && x && tris && c) {
         const int32_t *t = fit_model_triangles(body);
         for (int i = 0; i < nt; i++)
             for (int k = 0; k < 4; k++)
@@ -58,7 +58,6 @@ static int carry_to_pose(const fit_model *body, const fit_pose *pose, gar_mesh *
     if (r < 0)
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "carrying the dressed garment to the body's pose");
     sim_carry_destroy(c);
-    free(posed);
     free(from);
     free(to);
     free(x);
@@ -66,9 +65,35 @@ static int carry_to_pose(const fit_model *body, const fit_pose *pose, gar_mesh *
     return r < 0 ? -SIM_ERR_NO_MEMORY : 0;
 }
 
+/* The panels meshed at the spacing that gives about target vertices (0: gar_mesh_build's
+ * default, 2 cm): a mesh's vertex count goes about as its area over the spacing squared, so
+ * one mesh at the default and one correction from it, then one more from that (the outline's
+ * share of the vertices does not scale the same way). */
+static int mesh_to(const gar_pattern *p, int target, gar_mesh *m, float *spacing_m, gar_reject *gw)
+{
+    gar_mesh_desc md = {.spacing_m = SIM_PATTERN_DEFAULT_SPACING_M};
+    int r = gar_mesh_build(p, &md, m, gw);
+    for (int pass = 0; r == 0 && target > 0 && pass < 2; pass++) {
+        float good = md.spacing_m, h = good * sqrtf((float)m->num_vertices / (float)target);
+        if (fabsf(h - good) < 0.01f * good)
+            break;
+        md.spacing_m = h;
+        gar_mesh_free(m);
+        if (gar_mesh_build(p, &md, m, gw) == 0)
+            continue;
+        /* a target the mesher cannot reach (a spacing out of its range, too many points): the
+           last mesh it made */
+        md.spacing_m = good;
+        r = gar_mesh_build(p, &md, m, gw);
+        break;
+    }
+    *spacing_m = md.spacing_m;
+    return r;
+}
+
 /* The pattern read, graded, meshed, placed and dressed on the model at rest. */
-static int dress(const sim_outfit *o, const fit_model *body, gar_mesh *m, sim_pattern_stats *st,
-                 sim_reject *why)
+static int dress(const sim_outfit *o, const fit_model *body, int target, gar_mesh *m,
+                 sim_pattern_stats *st, int8_t **part_of, sim_reject *why)
 {
     gar_pattern p = {0};
     gar_reject gw = {0};
@@ -76,7 +101,7 @@ static int dress(const sim_outfit *o, const fit_model *body, gar_mesh *m, sim_pa
     int r = gar_pattern_load(o->garment, &p, &gw);
     if (r == 0) {
         gar_pattern_grade(&p, (gar_size)o->size);
-        r = gar_mesh_build(&p, NULL, m, &gw);
+        r = mesh_to(&p, target, m, &st->spacing_m, &gw);
     }
     if (r == 0)
         r = gar_mesh_place(&p, m, body, NULL, NULL, NULL, &gw);
@@ -87,6 +112,10 @@ static int dress(const sim_outfit *o, const fit_model *body, gar_mesh *m, sim_pa
     }
     gar_dress_desc d = {.fabric = gar_fabric_find(o->fabric_name)};
     r = gar_dress_tryon(&p, m, body, &d, &ds, &gw);
+    if (r == 0 && part_of && !(*part_of = malloc((size_t)m->num_vertices)))
+        r = -GAR_ERR_NO_MEMORY;
+    for (int i = 0; r == 0 && part_of && i < m->num_vertices; i++)
+        (*part_of)[i] = (int8_t)gar_panel_part(&p, m->panel_of[i]);
     gar_pattern_free(&p);
     if (r < 0)
         return sim_reject_set(why, SIM_ERR_FILE, "pattern %.80s: dressing: %s: %.100s", o->garment,
@@ -94,33 +123,50 @@ static int dress(const sim_outfit *o, const fit_model *body, gar_mesh *m, sim_pa
     st->dress_ms = ds.ms;
     st->seam_gap_mm = ds.seam_gap_mm;
     st->penetrating = ds.penetrating;
+    st->max_strain = ds.max_strain;
+    st->p99_strain = ds.p99_strain;
     return 0;
 }
 
-/* The garment the sim gets: positions and triangles; masses lumped from the fabric's density. */
-static int to_sim_garment(const sim_outfit *o, const gar_mesh *m, sim_garment *out, sim_reject *why)
-{
-    memset(out, 0, sizeof *out);
-    out->xyz = malloc((size_t)m->num_vertices * 3 * sizeof *out->xyz);
-    out->triangles = malloc((size_t)m->num_triangles * 3 * sizeof *out->triangles);
-    if (!out->xyz || !out->triangles) {
-        sim_garment_free(out);
-        return sim_reject_set(why, SIM_ERR_NO_MEMORY, "garment of %d vertices", m->num_vertices);
-    }
-    memcpy(out->xyz, m->xyz, (size_t)m->num_vertices * 3 * sizeof *out->xyz);
-    memcpy(out->triangles, m->triangles, (size_t)m->num_triangles * 3 * sizeof *out->triangles);
-    out->num_vertices = m->num_vertices;
-    out->num_triangles = m->num_triangles;
-    snprintf(out->id, sizeof out->id, "%.63s", o->id);
-    return 0;
-}
-
-int sim_outfit_make_pattern(const sim_outfit *o, const float *shape, int num_shape,
-                            const float *pose, int num_pose, sim_garment *out,
-                            sim_pattern_stats *stats, sim_reject *why)
+int sim_pattern_dress_on(const sim_outfit *o, const fit_model *body, const float *posed_xyz,
+                         int target_vertices, sim_garment *out, int8_t **part_of,
+                         sim_pattern_stats *stats, sim_reject *why)
 {
     double t0 = now_ms();
     sim_pattern_stats st = {0};
+    if (part_of)
+        *part_of = NULL;
+    if (!o || !o->is_pattern || !out || !body || !posed_xyz || target_vertices < 0)
+        return sim_reject_set(why, SIM_ERR_ARG, "not a pattern outfit, a body and its pose");
+    gar_mesh m = {0};
+    int r = dress(o, body, target_vertices, &m, &st, part_of, why);
+    if (r == 0)
+        r = carry_to(body, posed_xyz, &m, why);
+    if (r == 0 && (r = sim_pattern_weld(&m, out, part_of ? *part_of : NULL, why)) == 0) {
+        snprintf(out->id, sizeof out->id, "%.63s", o->id);
+        r = sim_pattern_hold(out, posed_xyz, fit_model_vertex_count(body),
+                             fit_model_triangles(body), fit_model_triangle_count(body), why);
+        r = r < 0 ? r : 0;
+        if (r < 0)
+            sim_garment_free(out);
+    }
+    gar_mesh_free(&m);
+    if (r < 0 && part_of) {
+        free(*part_of);
+        *part_of = NULL;
+    }
+    st.total_ms = (float)(now_ms() - t0);
+    if (stats)
+        *stats = st;
+    return r;
+}
+
+int sim_outfit_make_pattern(const sim_outfit *o, const float *shape, int num_shape,
+                            const float *pose, int num_pose, const float *body_xyz, int nv,
+                            const int32_t *body_tris, int nt, int target_vertices, sim_garment *out,
+                            sim_pattern_stats *stats, sim_reject *why)
+{
+    double t0 = now_ms();
     char err[200] = "";
     if (!o || !o->is_pattern || !out)
         return sim_reject_set(why, SIM_ERR_ARG, "not a pattern outfit");
@@ -141,17 +187,21 @@ int sim_outfit_make_pattern(const sim_outfit *o, const float *shape, int num_sha
     fit_model *body = fit_model_create(&(fit_model_desc){.shape = s}, err, sizeof err);
     if (!body)
         return sim_reject_set(why, SIM_ERR_PARAM, "body model: %.150s", err);
-    gar_mesh m = {0};
-    int r = dress(o, body, &m, &st, why);
-    if (r == 0)
-        r = carry_to_pose(body, &fp, &m, why);
-    if (r == 0)
-        r = to_sim_garment(o, &m, out, why);
-    gar_mesh_free(&m);
+    float *posed = malloc((size_t)fit_model_vertex_count(body) * 3 * sizeof *posed);
+    float joints[FIT_JOINT_COUNT * 3];
+    int r = posed && fit_model_pose(body, &fp, posed, joints) == 0
+                ? sim_pattern_dress_on(o, body, posed, target_vertices, out, NULL, stats, why)
+                : sim_reject_set(why, SIM_ERR_NO_MEMORY, "posing the body model");
+    /* the attachments moved from the model's mesh to the body's (same shape and pose) */
+    if (r == 0 && body_xyz &&
+        (r = sim_garment_rebind(out, posed, fit_model_vertex_count(body), fit_model_triangles(body),
+                                fit_model_triangle_count(body), body_xyz, nv, body_tris, nt, why)) <
+            0)
+        sim_garment_free(out);
+    free(posed);
     fit_model_destroy(body);
-    st.total_ms = (float)(now_ms() - t0);
     if (stats)
-        *stats = st;
+        stats->total_ms = (float)(now_ms() - t0);
     return r;
 }
 
@@ -164,4 +214,9 @@ int sim_pattern_settle(sim *s, const float *body_xyz, int nv, const int32_t *bod
         r = sim_step(s, body_xyz, nv, body_tris, nt, &st, why);
     }
     return r;
+}
+
+float sim_pattern_thickness_m(void)
+{
+    return GAR_TRYON_THICKNESS_M;
 }
