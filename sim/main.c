@@ -62,6 +62,7 @@ typedef struct app {
     int backend_auto;    /* --backend auto (the default): OpenCL on a GPU, else C (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* arrived while a newer one was waiting: not simulated */
+    int settling;        /* published cut short by the frame budget (SIM_STATE_SETTLING) */
     pending_body next;
     sim *sim;
     char garment_id[64];
@@ -384,6 +385,7 @@ static void step_body(app *a)
         return;
     }
     a->diverged_run = r == -SIM_ERR_DIVERGED ? a->diverged_run + 1 : 0;
+    a->settling += st.state == SIM_STATE_SETTLING;
     if (r == 0)
         sim_topologies_mark_live(&a->topo, b->topology_id, now);
     if (r == -SIM_ERR_DIVERGED)
@@ -562,8 +564,9 @@ int main(int argc, char **argv)
     const bus_stats *bs = bus_sub_stats(sub);
     fprintf(stderr,
             "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %d "
-            "refused, %llu BODY messages dropped\n",
-            a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected);
+            "refused, %llu BODY messages dropped; %d published settling (--frame-budget %g ms)\n",
+            a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected,
+            a.settling, (double)a.desc.frame_budget_ms);
     int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,
