@@ -29,7 +29,8 @@ int sim_outfit_make_pattern(const sim_outfit *o, const float *shape, int num_sha
  * the pose leaves contacts and strain that the first step resolves by moving the cloth, and that
  * motion carried into a frame where the body moves pushed a few vertices through the arm (the
  * T-shirt on the walk's second frame: 2 vertices 4.8 mm inside without these, test_sim_pattern).
- * Steps the sim SIM_PATTERN_SETTLE_FRAMES times on the body; returns sim_step's result. */
+ * Steps the sim SIM_PATTERN_SETTLE_FRAMES times on the body, without the frame budget (part of
+ * dressing); returns sim_step's result. */
 #define SIM_PATTERN_SETTLE_FRAMES 2
 int sim_pattern_settle(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
                        sim_reject *why);
