@@ -53,7 +53,7 @@ bin_dir() {
 brief() {
     local logs
     logs=$(sed -n 's/^== logs: //p' "$1")
-    awk -v b="$2" '$1 == "sim" { s = $10; sd = $3; w = $7 } $1 == "mirror" { m = $10; md = $3 }
+    awk -v b="$2" '$1 == "sim" && NF == 10 { s = $9; sd = $3; w = $6 } $1 == "mirror" && NF == 10 { m = $9; md = $3 }
         END { printf "== budget %s: capture -> cloth p95 %s ms, sim work p95 %s ms, sim dropped %s; ", b, s, w, sd
               printf "on screen p95 %s ms, mirror dropped %s\n", m, md }' "$1"
     grep -ho "[0-9]* superseded.*" "$logs/tryon-sim.log" | tail -n 1 | sed 's/^/   tryon-sim: /'
