@@ -57,6 +57,7 @@ brief() {
         END { printf "== budget %s: capture -> cloth p95 %s ms, sim work p95 %s ms, sim dropped %s; ", b, s, w, sd
               printf "on screen p95 %s ms, mirror dropped %s\n", m, md }' "$1"
     grep -ho "[0-9]* superseded.*" "$logs/tryon-sim.log" | tail -n 1 | sed 's/^/   tryon-sim: /'
+    rm -rf "$logs" # the launcher's logs of this run, read
 }
 for k in $(seq "$runs"); do
     for b in $budgets; do
