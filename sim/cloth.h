@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "budget.h"
 #include "collide.h"
 #include "sim.h"
 #include "spring_kind.h"
@@ -117,6 +118,11 @@ struct sim {
     float (*x_first)[4];     /* the garment as made, on the first body frame (body_first) */
     float (*body_first)[4];  /* [max_body_vertices]: that body frame, for re-dressing */
     int first_nv, first_nt;  /* its size; 0 until a body frame was stored */
+    /* The frame budget (sim.c, budget.c): the settle tests the next attempt may run
+       (sim_solver_params.settle_tests; SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH without a budget),
+       and what the frames so far cost. */
+    int settle_tests_max;
+    sim_budget budget;
 };
 
 /* Solver constants and the reasons for them. */

@@ -33,7 +33,8 @@ void sim_solver_params_fill(const struct sim *s, int iters, sim_solver_params *p
     p->natt = c->num_attachments;
     p->hier_levels = c->hier_levels;
     p->post_rounds = SIM_POST_ROUNDS;
-    p->settle_tests = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH;
+    p->settle_tests =
+        s->settle_tests_max; /* SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH, or the budget's */
     p->settle_batch = SIM_SETTLE_BATCH;
     p->settle_progress = SIM_SETTLE_PROGRESS;
     p->settle_strain = SIM_SETTLE_STRAIN;

@@ -23,6 +23,11 @@
 /* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
  * body: one made on a body that cannot carry it never recovers. */
 #define SIM_MAIN_DIVERGED_REBUILD 30
+/* --frame-budget's default, ms (sim_desc.frame_budget_ms): the camera's period is 33 ms, and a
+ * body the sim is still busy with when the next arrives makes that one wait (and a third one
+ * supersede it); the body stage takes about 25 ms of the 50 ms from capture to cloth at p95
+ * (docs/mirror.md, "Figures"): the rest, 25 ms, less the publishing. */
+#define SIM_MAIN_FRAME_BUDGET_MS 20.0f
 
 static volatile sig_atomic_t stop_requested;
 
@@ -57,6 +62,7 @@ typedef struct app {
     int backend_auto;    /* --backend auto (the default), until decided (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* arrived while a newer one was waiting: not simulated */
+    int settling;        /* published cut short by the frame budget (SIM_STATE_SETTLING) */
     pending_body next;
     sim *sim;
     char garment_id[64];
@@ -396,6 +402,7 @@ static void step_body(app *a)
         return;
     }
     a->diverged_run = r == -SIM_ERR_DIVERGED ? a->diverged_run + 1 : 0;
+    a->settling += st.state == SIM_STATE_SETTLING;
     if (r == 0)
         sim_topologies_mark_live(&a->topo, b->topology_id, now);
     if (r == -SIM_ERR_DIVERGED)
@@ -424,7 +431,7 @@ static int usage(FILE *f, int rc)
             "                 [--size S|M|L]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
-            "                 [--stats FILE]\n"
+            "                 [--frame-budget MS] [--stats FILE]\n"
             "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
             "          strain retries, iterations, feature points moved, max strain, max\n"
             "          penetration mm, iterations ms, total ms)\n"
@@ -436,6 +443,9 @@ static int usage(FILE *f, int rc)
             "          latency stays one frame; all: every body, in order (replays, tests)\n"
             "  --retry-budget MS: a frame missing the strain goals is done again with more\n"
             "          iterations only while the frame fits in MS (0, default: always)\n"
+            "  --frame-budget MS: each body's deadline (default 20; 0: none): settle rounds and\n"
+            "          strain retries stop when it is spent, the cloth is published as it stands\n"
+            "          (state settling, its strain measured)\n"
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
@@ -451,9 +461,21 @@ static int usage(FILE *f, int rc)
     return rc;
 }
 
+/* A duration in ms, 0 .. 1000 (a body frame's budget): 0, or -1 for anything else. */
+static int parse_ms(const char *v, float *ms)
+{
+    char *end;
+    double x = strtod(v, &end);
+    if (end == v || *end != 0 || !(x >= 0.0 && x <= 1000.0))
+        return -1;
+    *ms = (float)x;
+    return 0;
+}
+
 static int parse(app *a, int argc, char **argv)
 {
     a->desc = sim_default_desc();
+    a->desc.frame_budget_ms = SIM_MAIN_FRAME_BUDGET_MS; /* live: on time (the bench: no budget) */
     a->backend_auto = 1; /* the product runs on the GPU where there is one (auto_backend) */
     a->verts = 7000;
     a->size = SIM_SIZE_M;
@@ -488,6 +510,8 @@ static int parse(app *a, int argc, char **argv)
             a->desc.follow = (float)atof(v);
         else if (!strcmp(o, "--retry-budget") && atof(v) >= 0.0)
             a->desc.retry_budget_ms = (float)atof(v);
+        else if (!strcmp(o, "--frame-budget") && parse_ms(v, &a->desc.frame_budget_ms) == 0)
+            ;
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
         else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
@@ -559,8 +583,9 @@ int main(int argc, char **argv)
     const bus_stats *bs = bus_sub_stats(sub);
     fprintf(stderr,
             "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %d "
-            "refused, %llu BODY messages dropped\n",
-            a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected);
+            "refused, %llu BODY messages dropped; %d published settling (--frame-budget %g ms)\n",
+            a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected,
+            a.settling, (double)a.desc.frame_budget_ms);
     int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,

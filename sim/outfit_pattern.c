@@ -209,10 +209,15 @@ int sim_pattern_settle(sim *s, const float *body_xyz, int nv, const int32_t *bod
                        sim_reject *why)
 {
     int r = 0;
+    /* part of dressing, done once before the garment is worn: whole, whatever a live stage's
+       frame budget (sim_desc.frame_budget_ms) */
+    float budget_ms = s->desc.frame_budget_ms;
+    s->desc.frame_budget_ms = 0.0f;
     for (int k = 0; k < SIM_PATTERN_SETTLE_FRAMES && r == 0; k++) {
         sim_frame_stats st;
         r = sim_step(s, body_xyz, nv, body_tris, nt, &st, why);
     }
+    s->desc.frame_budget_ms = budget_ms;
     return r;
 }
 

@@ -51,7 +51,8 @@ int sim_pattern_dress_on(const sim_outfit *o, const struct fit_model *body, cons
  * the pose leaves contacts and strain that the first step resolves by moving the cloth, and that
  * motion carried into a frame where the body moves pushed a few vertices through the arm (the
  * T-shirt on the walk's second frame: 2 vertices 4.8 mm inside without these, test_sim_pattern).
- * Steps the sim SIM_PATTERN_SETTLE_FRAMES times on the body; returns sim_step's result. */
+ * Steps the sim SIM_PATTERN_SETTLE_FRAMES times on the body, without the frame budget (part of
+ * dressing); returns sim_step's result. */
 #define SIM_PATTERN_SETTLE_FRAMES 2
 
 /* The contact thickness (sim_desc.thickness_m) a sim wearing a dressed pattern needs: the

@@ -19,6 +19,8 @@ const char *sim_state_name(sim_state s)
         return "recovered";
     case SIM_STATE_DIVERGED:
         return "diverged";
+    case SIM_STATE_SETTLING:
+        return "settling";
     case SIM_STATE_CARRIED:
         return "carried";
     }
@@ -112,10 +114,10 @@ static int check_desc(const sim_desc *d, sim_reject *why)
     if (!(d->damping < 1.0f) || !isfinite(d->friction) || !isfinite(d->gravity_m_s2) ||
         !(d->thickness_m > 0.0f && d->thickness_m < 0.1f) || !(d->strain_limit > 0.0f) ||
         !(d->follow <= 1.0f) || isnan(d->retry_max_strain) || isnan(d->retry_p99_strain) ||
-        isnan(d->retry_budget_ms))
+        isnan(d->retry_budget_ms) || isnan(d->frame_budget_ms))
         return sim_reject_set(why, SIM_ERR_PARAM,
                               "damping < 1, 0 < thickness < 0.1 m, strain_limit > 0, "
-                              "follow <= 1, retry strains and budget not NaN needed");
+                              "follow <= 1, retry strains and budgets not NaN needed");
     if (d->backend != SIM_BACKEND_C && d->backend != SIM_BACKEND_OPENCL)
         return sim_reject_set(why, SIM_ERR_PARAM, "backend %d unknown", (int)d->backend);
     if (d->solver != SIM_SOLVER_TRYON && d->solver != SIM_SOLVER_SEED)
@@ -312,6 +314,7 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     save_good(s);
     memcpy(s->x_first, s->cloth.x, (size_t)nv * sizeof *s->x_first);
     s->iters_good = d.iterations;
+    s->settle_tests_max = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH;
     memcpy(s->tris3, g->triangles, (size_t)s->cloth.nt * 3 * sizeof *s->tris3);
 
     char err[160] = "";
@@ -457,6 +460,22 @@ static void restep_velocity(sim *s, int from, int to)
     s->ops->upload(s->backend, s);
 }
 
+/* The time a strain retry must fit in: the smaller of the two budgets (0: none). */
+static double retry_budget(const sim_desc *d)
+{
+    double r = d->retry_budget_ms > 0.0f ? d->retry_budget_ms : 0.0;
+    double f = d->frame_budget_ms > 0.0f ? d->frame_budget_ms : 0.0;
+    return r > 0.0 && (f <= 0.0 || r < f) ? r : f;
+}
+
+/* The frame budget cut an attempt's settle rounds: it ran every round it was allowed, fewer than
+   the solver's, and ended over the strain the rounds settle to (cloth.h). */
+static int settle_cut(const sim_frame_stats *st, int allowed, float max_strain)
+{
+    return allowed < SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH &&
+           st->settle_rounds >= allowed * SIM_SETTLE_BATCH && max_strain > SIM_SETTLE_STRAIN;
+}
+
 /* The stage times of every attempt of a frame add up. */
 static void add_stage_times(sim_frame_stats *sum, const sim_frame_stats *st)
 {
@@ -585,19 +604,27 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     float max_strain = 0.0f, p99 = 0.0f, best_strain = 0.0f, best_p99 = 0.0f;
     float excess = 0.0f, best_excess = INFINITY;
     sim_frame_stats sum = {0};
+    double budget = retry_budget(&s->desc);
+    int late = 0; /* the frame budget cut settle rounds or a strain retry */
     for (int attempt = 0; attempt <= SIM_MAX_RETRIES; attempt++) {
         /* the good state's velocity is its last step's move: for another step, that step's */
         if (iters != s->iters_good)
             restep_velocity(s, s->iters_good, iters);
         double ta = now_ms();
+        int allowed = sim_budget_settle_tests(&s->budget, s->desc.frame_budget_ms, ta - t0, iters,
+                                              SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH);
+        s->settle_tests_max = allowed;
         r = s->ops->frame(s->backend, s, iters, st);
+        sim_budget_learn_attempt(&s->budget, st, iters);
         add_stage_times(&sum, st);
         int good = r == 0 && !state_diverged(s, iters, &max_strain, &p99);
         excess = strain_excess(s, max_strain, p99);
+        late |= good && settle_cut(st, allowed, max_strain);
         /* no time left for a retry twice as long as this attempt: publish the nearest so far */
         double spent = now_ms();
-        int no_time = s->desc.retry_budget_ms > 0.0f &&
-                      (spent - t0) + 2.0 * (spent - ta) > (double)s->desc.retry_budget_ms;
+        int no_time = budget > 0.0 && (spent - t0) + 2.0 * (spent - ta) > budget;
+        late |= good && no_time && excess > 1.0f && strain_retry && attempt < SIM_MAX_RETRIES &&
+                s->desc.frame_budget_ms > 0.0f;
         if (good && (!(excess > 1.0f) || !strain_retry || attempt == SIM_MAX_RETRIES || no_time) &&
             !(best_excess < excess)) {
             ok = 1;
@@ -656,7 +683,10 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
                               "good cloth is kept",
                               s->frame, s->desc.iterations, iters);
     }
-    st->state = carried ? SIM_STATE_CARRIED : (st->retries ? SIM_STATE_RECOVERED : SIM_STATE_OK);
+    st->state = carried       ? SIM_STATE_CARRIED
+                : late        ? SIM_STATE_SETTLING
+                : st->retries ? SIM_STATE_RECOVERED
+                              : SIM_STATE_OK;
     if (carried) {
         excess = strain_excess(s, max_strain, p99);
         iters = s->desc.iterations;
@@ -667,6 +697,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     double t3 = now_ms();
     st->ms_metrics = (float)(t3 - t2);
     st->ms_total = (float)(t3 - t0);
+    sim_budget_learn_tail(&s->budget, st);
     return 0;
 }
 

@@ -89,6 +89,13 @@ typedef struct sim_desc {
      * within it; otherwise the attempt nearest the goals so far is published, its strain in the
      * stats. A diverged attempt is retried whatever the budget. */
     float retry_budget_ms;
+    /* A live stage's deadline for each body frame, ms of wall clock from sim_step's call (0 =
+     * none, the default: every settle round and strain retry runs). The settle rounds are cut to
+     * what the time left allows (from what the last frames cost: the first frame has no cut),
+     * a strain retry is started only as retry_budget_ms says, and a frame cut short is published
+     * as it stands, its strain measured, state SIM_STATE_SETTLING. A diverged attempt is retried
+     * whatever the budget. docs/sim.md, "tryon-sim". */
+    float frame_budget_ms;
     int max_body_vertices;  /* 0 = 100000 */
     int max_body_triangles; /* 0 = 200000 */
 } sim_desc;
@@ -99,6 +106,9 @@ typedef enum sim_state {
     SIM_STATE_OK = 0,
     SIM_STATE_RECOVERED = 1,
     SIM_STATE_DIVERGED = 2, /* no attempt solved the frame and nothing carried it: kept */
+    /* the frame budget ran out before the settle rounds or a strain retry the frame wanted:
+       the cloth as it stood, its strain as measured (cloth_t STATE_SETTLING) */
+    SIM_STATE_SETTLING = 3,
     /* no attempt solved the frame: the last good cloth was carried by the body from the last
        body frame to this one (each point with the body's surface nearest it) and the solver
        resettles from there on the next frame (cloth_t STATE_CARRIED) */
