@@ -7,14 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "tryon_clock.h"
 #define BENCH_WARMUP 50
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -50,9 +44,9 @@ static int run_scene(int target, int runs, result *r)
     fit_pose pose;
     for (int i = 0; i < BENCH_WARMUP + runs; ++i) {
         fit_motion_eval(FIT_MOTION_WALK, 0.033 * i, &pose);
-        double t0 = now_ms();
+        double t0 = tryon_now_ms();
         fit_model_pose(m, &pose, v, NULL);
-        double t1 = now_ms();
+        double t1 = tryon_now_ms();
         if (i >= BENCH_WARMUP)
             ms[i - BENCH_WARMUP] = t1 - t0;
     }

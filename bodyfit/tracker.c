@@ -12,6 +12,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "tryon_clock.h"
+
 /* A fit is lost when fewer than this share of the points are explained, or worse than this. */
 #define TRACK_MIN_INLIERS 0.6f
 #define TRACK_MAX_RMS_MM  30.0f
@@ -90,13 +92,6 @@ struct fit_tracker {
     int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
 };
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
-}
 
 /* Builds the coarse and the published model of a shape; keeps the old ones on failure. */
 static int track_models(fit_tracker *t, const fit_shape *shape, char *err, size_t errlen)
@@ -463,10 +458,10 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     memset(out, 0, sizeof *out);
     out->shape = t->shape;
     out->topology_id = t->topology_id;
-    double t0 = now_ms();
+    double t0 = tryon_now_ms();
     fit_segment sg;
     fit_frame_error e = fit_segmenter_frame(t->seg, v, &sg, out->message, sizeof out->message);
-    out->ms_segment = now_ms() - t0;
+    out->ms_segment = tryon_now_ms() - t0;
     if (e)
         return track_lost(t, out, e, NULL);
     size_t cells = (size_t)sg.width * (size_t)sg.height;
@@ -484,8 +479,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     if (cvs_nearest_set(sg.mask, sg.width, sg.height, TRACK_SILHOUETTE_MARGIN_PX, t->nearest, roi,
                         err, sizeof err))
         return track_lost(t, out, FIT_FRAME_INTERNAL, err);
-    out->ms_segment = now_ms() - t0;
-    double t1 = now_ms();
+    out->ms_segment = tryon_now_ms() - t0;
+    double t1 = tryon_now_ms();
     int fresh = !t->have_pose;
     track_height_update(t, &sg, v);
     if (fresh)
@@ -516,7 +511,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         rc = track_shape_first(t, &pb, &pose, &st);
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
-    out->ms_fit = now_ms() - t1;
+    out->ms_fit = tryon_now_ms() - t1;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
     out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
@@ -544,14 +539,14 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         track_shape_update(t, &t->pose, t->pts);
         t->shape_learnt++;
     }
-    double t2 = now_ms();
+    double t2 = tryon_now_ms();
     t->published = t->pose;
     if (fresh)
         fit_smoother_reset(&t->smooth);
     if (t->d.smooth_hz >= 0.0f)
         fit_smoother_step(&t->smooth, &t->pose, &t->published);
     fit_model_pose(t->full, &t->published, t->verts, out->joints);
-    out->ms_skin = now_ms() - t2;
+    out->ms_skin = tryon_now_ms() - t2;
     int settled = t->d.fixed_shape || t->person_frames > t->d.shape_frames;
     out->state =
         settled && t->sound_frames >= TRACK_SOUND_FRAMES ? FIT_STATE_TRACKING : FIT_STATE_INIT;

@@ -11,6 +11,7 @@
 #include <omp.h>
 #endif
 
+#include "tryon_clock.h"
 #include "bodyfit.h"
 #include "cloth_cloth.h"
 #include "dress_internal.h"
@@ -54,13 +55,6 @@ typedef struct dress {
     uint8_t *skip;
     uint8_t *welded; /* per joint: closed once, sewn from then on */
 } dress;
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 static int joint_csr(dress *d)
 {
@@ -345,7 +339,7 @@ int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const fit_model *body,
     if (!p || !m || !body || !st)
         return gar_refuse(why, GAR_ERR_ARG, "dressing needs a pattern, its mesh and a body");
     memset(st, 0, sizeof *st);
-    double t0 = now_ms();
+    double t0 = tryon_now_ms();
     dress d = {0};
     int rc = dress_init(&d, m, body, desc);
     if (rc) {
@@ -369,7 +363,7 @@ int gar_dress_seed(const gar_pattern *p, gar_mesh *m, const fit_model *body,
         step(&d, s % GAR_CC_EVERY == 0, GAR_GRAVITY_M_S2);
     st->steps = s;
     dress_free(&d);
-    st->ms = (float)(now_ms() - t0);
+    st->ms = (float)(tryon_now_ms() - t0);
     float ms = st->ms, seaming = st->seaming_s;
     int steps = st->steps;
     rc = gar_dress_measure(m, body, st);

@@ -12,6 +12,7 @@
 #include <omp.h>
 #endif
 
+#include "tryon_clock.h"
 #include "bodyfit.h"
 #include "cloth.h"
 #include "passes.h"
@@ -82,13 +83,6 @@ typedef struct tdress {
     const uint8_t *pinned; /* [vertex] 1 = held where it was placed (NULL = none) */
     float *pin_xyz;        /* [vertex][3] where */
 } tdress;
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 static void partner(const tdress *d, const gar_joint *j, float out[3])
 {
@@ -369,7 +363,7 @@ int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_d
     if (!m || !body || !body->xyz || !body->triangles || !st)
         return gar_refuse(why, GAR_ERR_ARG, "dressing needs a mesh and a body");
     memset(st, 0, sizeof *st);
-    double t0 = now_ms();
+    double t0 = tryon_now_ms();
     tdress d = {0};
     int rc = tdress_init(&d, m, body, desc);
     if (rc) {
@@ -409,7 +403,7 @@ int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_d
         memcpy(m->xyz + 3 * i, d.x[i], 3 * sizeof(float));
     st->steps = s;
     tdress_free(&d);
-    st->ms = (float)(now_ms() - t0);
+    st->ms = (float)(tryon_now_ms() - t0);
     return 0;
 }
 

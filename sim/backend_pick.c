@@ -6,14 +6,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "tryon_clock.h"
 #include "sim.h"
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -35,11 +29,11 @@ static double time_backend(const sim_desc *desc, sim_backend b, const sim_garmen
     int n = 0;
     for (int f = 0; s && ms && f < frames; f++) {
         sim_frame_stats st;
-        double t0 = now_ms();
+        double t0 = tryon_now_ms();
         if (sim_step(s, body_xyz, nv, body_tris, nt, &st, &why) != 0)
             break;
         if (f > 0)
-            ms[n++] = now_ms() - t0;
+            ms[n++] = tryon_now_ms() - t0;
     }
     double med = -1.0;
     if (n > 0 && n == frames - 1) {

@@ -8,18 +8,12 @@
 #include <string.h>
 #include <time.h>
 
+#include "tryon_clock.h"
 #include "bullet_drape.h"
 
 #define BB_SETTLE_FRAMES 30 /* strain is judged after the first second, as tryon-bench-sim */
 #define BB_WARM_FRAMES   5  /* the first frames fault pages in */
 #define BB_PEN_TOL_M     0.001f
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -106,10 +100,10 @@ int main(int argc, char **argv)
     int penetrating = 0, not_finite = 0;
     printf("%-6s %8s %8s %6s %6s\n", "frame", "ms", "strain%", "p99%", "pen");
     for (int f = 0; f < frames; f++) {
-        double t0 = now_ms();
+        double t0 = tryon_now_ms();
         for (int k = 0; k < substeps; k++)
             bullet_drape_step(b, 1.0f / 30.0f / (float)substeps);
-        ms[f] = (float)(now_ms() - t0);
+        ms[f] = (float)(tryon_now_ms() - t0);
         bullet_drape_positions(b, xyz);
         int pen = 0;
         for (int i = 0; i < nv; i++) {

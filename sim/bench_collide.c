@@ -14,6 +14,7 @@
 #include <omp.h>
 #endif
 
+#include "tryon_clock.h"
 #include "bodyfit.h"
 #include "collide.h"
 #include "collide_bvh.h"
@@ -21,13 +22,6 @@
 #define ITERATIONS    25
 #define CONTACT_EVERY 10     /* tryon: iterations between contact refreshes (sim/cloth.h) */
 #define SHELL_M       0.008f /* cloth points start 8 mm off the skin */
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -108,34 +102,34 @@ static int run_variant(int seed, fit_model *m, fit_motion motion, int frames, in
     for (int f = 0; f < frames; f++) {
         fit_motion_eval(motion, (f + 1) / 30.0, &pose);
         fit_model_pose(m, &pose, xyz, NULL);
-        double t0 = now_ms();
+        double t0 = tryon_now_ms();
         sim_collider_set_body(c, xyz, nv, tris, nt);
         if (seed) /* seed 000: both BVHs built from scratch every frame */
             sim_bvh_build_lbvh(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
                                (const int32_t(*)[4])c->tris, nt, c->d.thickness_m);
-        double t1 = now_ms();
+        double t1 = tryon_now_ms();
         r->moved += sim_collider_feature_points(c, x, xp, 0, npts);
-        double t2 = now_ms(), search = 0.0, track = 0.0, resolve = 0.0;
+        double t2 = tryon_now_ms(), search = 0.0, track = 0.0, resolve = 0.0;
         for (int it = 0; it < ITERATIONS; it++) {
-            double a = now_ms();
+            double a = tryon_now_ms();
             if (seed || it == 0)
                 sim_collider_find_contacts(c, (const float(*)[4])x, 0, npts);
             else if (it % CONTACT_EVERY == 0)
                 sim_collider_track_contacts(c, (const float(*)[4])x, 0, npts);
-            double b = now_ms();
+            double b = tryon_now_ms();
             sim_collider_resolve(c, x, xp, 0, npts);
-            double e = now_ms();
+            double e = tryon_now_ms();
             if (seed || it == 0)
                 search += b - a;
             else
                 track += b - a;
             resolve += e - b;
         }
-        double t3 = now_ms();
+        double t3 = tryon_now_ms();
         int pen;
         float depth;
         sim_collider_penetration(c, (const float(*)[4])x, npts, 0.001f, &pen, &depth);
-        double t4 = now_ms();
+        double t4 = tryon_now_ms();
         memcpy(xp, x, (size_t)npts * sizeof *x); /* the points are at rest between frames */
         if (pen > r->worst_pen)
             r->worst_pen = pen;
