@@ -57,6 +57,9 @@ typedef struct fit_solver fit_solver;
 fit_solver *fit_solver_create(const fit_model *coarse);
 void fit_solver_destroy(fit_solver *s);
 int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *st);
+/* Solves A x = b in place for a symmetric positive definite n x n A (row-major, its lower
+   triangle read and overwritten by the factor); -1 when A is not positive definite. */
+int fit_cholesky_solve(double *A, double *x, int n);
 
 /* Topology-keeping shape changes (fit_shape_adapt.c): a copy of a model's rest mesh, normals
  * and joints, re-applied with the shape's degrees of freedom below. */

@@ -30,38 +30,6 @@ static const float step_hi[FIT_SHAPE_DOF] = {9.0f,  1.18f, 1.18f, 1.25f, 1.35f,
                                              1.45f, 1.35f, 0.04f, 0.04f};
 #define STEP_RATIOS 7 /* a[1..6] are ratios, a[7..8] offsets */
 
-static int solve_small(double *A, double *x, int n) /* Cholesky, A symmetric, full */
-{
-    for (int j = 0; j < n; ++j) {
-        double d = A[j * n + j];
-        for (int k = 0; k < j; ++k)
-            d -= A[j * n + k] * A[j * n + k];
-        if (!(d > 0.0))
-            return -1;
-        d = sqrt(d);
-        A[j * n + j] = d;
-        for (int i = j + 1; i < n; ++i) {
-            double v = A[i * n + j];
-            for (int k = 0; k < j; ++k)
-                v -= A[i * n + k] * A[j * n + k];
-            A[i * n + j] = v / d;
-        }
-    }
-    for (int i = 0; i < n; ++i) {
-        double v = x[i];
-        for (int k = 0; k < i; ++k)
-            v -= A[i * n + k] * x[k];
-        x[i] = v / A[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-        double v = x[i];
-        for (int k = i + 1; k < n; ++k)
-            v -= A[k * n + i] * x[k];
-        x[i] = v / A[i * n + i];
-    }
-    return 0;
-}
-
 int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver *s, fit_pose *pose,
                    const float *points, float gain, float *scratch, fit_shape_q *q)
 {
@@ -125,7 +93,7 @@ int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver 
         g[i] = g[i] / n - prior * (a[i + 1] - rest);
         A[i * STEP_DOF + i] = A[i * STEP_DOF + i] * (1.0 + STEP_DAMPING) + prior;
     }
-    if (solve_small(A, g, STEP_DOF))
+    if (fit_cholesky_solve(A, g, STEP_DOF))
         return 0; /* nothing to learn from this frame */
     for (int i = 1; i < FIT_SHAPE_DOF; ++i) {
         float v = a[i] + gain * (float)g[i - 1];

@@ -340,40 +340,47 @@ static void prior_terms(const fit_problem *pb, const fit_pose *pose, const frame
     }
 }
 
-/* Cholesky of the symmetric A (upper triangle filled), solving A x = b in place. */
+/* Cholesky of the symmetric n x n A (its lower triangle read; the upper left as it was),
+   solving A x = b in place; -1 when A is not positive definite. */
+int fit_cholesky_solve(double *A, double *x, int n)
+{
+    for (int j = 0; j < n; ++j) {
+        double d = A[j * n + j];
+        for (int k = 0; k < j; ++k)
+            d -= A[j * n + k] * A[j * n + k];
+        if (!(d > 0.0))
+            return -1;
+        d = sqrt(d);
+        A[j * n + j] = d;
+        for (int i = j + 1; i < n; ++i) {
+            double v = A[i * n + j];
+            for (int k = 0; k < j; ++k)
+                v -= A[i * n + k] * A[j * n + k];
+            A[i * n + j] = v / d;
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        double v = x[i];
+        for (int k = 0; k < i; ++k)
+            v -= A[i * n + k] * x[k];
+        x[i] = v / A[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+        double v = x[i];
+        for (int k = i + 1; k < n; ++k)
+            v -= A[k * n + i] * x[k];
+        x[i] = v / A[i * n + i];
+    }
+    return 0;
+}
+
+/* The symmetric A (upper triangle filled) mirrored, then solved (fit_cholesky_solve). */
 static int solve_spd(double *A, double *x)
 {
     for (int i = 0; i < NP; ++i)
         for (int j = 0; j < i; ++j)
             A[i * NP + j] = A[j * NP + i];
-    for (int j = 0; j < NP; ++j) {
-        double d = A[j * NP + j];
-        for (int k = 0; k < j; ++k)
-            d -= A[j * NP + k] * A[j * NP + k];
-        if (!(d > 0.0))
-            return -1;
-        d = sqrt(d);
-        A[j * NP + j] = d;
-        for (int i = j + 1; i < NP; ++i) {
-            double v = A[i * NP + j];
-            for (int k = 0; k < j; ++k)
-                v -= A[i * NP + k] * A[j * NP + k];
-            A[i * NP + j] = v / d;
-        }
-    }
-    for (int i = 0; i < NP; ++i) {
-        double v = x[i];
-        for (int k = 0; k < i; ++k)
-            v -= A[i * NP + k] * x[k];
-        x[i] = v / A[i * NP + i];
-    }
-    for (int i = NP - 1; i >= 0; --i) {
-        double v = x[i];
-        for (int k = i + 1; k < NP; ++k)
-            v -= A[k * NP + i] * x[k];
-        x[i] = v / A[i * NP + i];
-    }
-    return 0;
+    return fit_cholesky_solve(A, x, NP);
 }
 
 int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *st)
