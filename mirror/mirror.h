@@ -34,6 +34,10 @@ typedef struct mirror_depth {
     float camera_to_world[16]; /* row-major */
     const uint16_t *data;
     int64_t utime_capture;
+    /* the person's image made from data (2 floats a pixel: mirror_person_image), or NULL: the
+     * renderer makes it. The ring makes it when the frame arrives, while the sim still works on
+     * that frame: off the path from CLOTH to screen. */
+    const float *person;
 } mirror_depth;
 
 /* A triangle mesh in world coordinates. strain: per vertex (NULL = none), for the fit map. */

@@ -305,15 +305,18 @@ static void quad(mirror_renderer *r, const float xyuv[16])
 
 static int person(mirror_renderer *r, const mirror_depth *d, const float proj[16])
 {
-    if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
-        return -MIRROR_ERR_NO_MEMORY;
+    const float *image = d->person;
+    if (!image) {
+        if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
+            return -MIRROR_ERR_NO_MEMORY;
+        image = r->person_buf;
+    }
     float s, offx;
     mirror_picture_fit(d, r->w, r->h, &s, &offx);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r->depth_tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT,
-                 r->person_buf);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT, image);
     glUseProgram(r->person_prog);
     glUniform1i(r->u_person, 0);
     glUniform4f(r->u_fit, s, offx, (float)r->w, (float)r->h);
