@@ -262,6 +262,20 @@ int mirror_app_frame(mirror_app *a)
                      .fit_map = a->fit_map,
                      .overlay_text = a->overlay ? text : NULL};
     char err[512];
+    int w = a->width, h = a->height, direct = 0;
+    if (a->window) { /* the picture's size: drawn straight into the back buffer, no copy */
+        mirror_window_size(a->window, &w, &h);
+        direct = w == a->width && h == a->height;
+    }
+    mirror_renderer_draw_to_window(a->renderer, direct);
+    if (a->window && a->window_path != 1 + direct) { /* said once, and on each change */
+        a->window_path = 1 + direct;
+        if (direct)
+            fprintf(stderr, "tryon-mirror: drawing straight into the window's back buffer\n");
+        else
+            fprintf(stderr, "tryon-mirror: the window is %dx%d: the picture is scaled into it\n", w,
+                    h);
+    }
     int64_t t0 = bus_now_mono_us();
     if (mirror_render(a->renderer, &v, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: frame %d: %s; skipped\n", a->frames_drawn, err);
@@ -270,9 +284,8 @@ int mirror_app_frame(mirror_app *a)
     glFinish(); /* drawn: what follows is showing or saving it */
     int64_t t1 = bus_now_mono_us();
     if (a->window) {
-        int w, h;
-        mirror_window_size(a->window, &w, &h);
-        mirror_present(a->renderer, w, h);
+        if (!direct)
+            mirror_present(a->renderer, w, h);
         if (a->out_dir || a->video) /* what the window shows, read back from its own buffer */
             write_outputs(a);
         mirror_window_swap(a->window);

@@ -122,7 +122,7 @@ int main(int argc, char **argv)
     garment(xyz, tris, COLS, ROWS);
     mirror_depth d = {DW,     DH,     F,      F,
                       319.5f, 239.5f, 0.001f, {1, 0, 0, 0, 0, -1, 0, 1, 0, 0, -1, 0, 0, 0, 0, 1},
-                      px,     0};
+                      px,     0,      NULL}; /* the person made in each draw, as before */
     mirror_mesh g = {xyz, COLS * ROWS, tris, COLS * (ROWS - 1) * 2, NULL};
     mirror_view v = {.depth = &d, .garment = &g, .overlay_text = "FPS 30.0\nSIM 20.0 MS\nGARMENT"};
     double cpu0 = 0.0;

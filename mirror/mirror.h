@@ -34,6 +34,10 @@ typedef struct mirror_depth {
     float camera_to_world[16]; /* row-major */
     const uint16_t *data;
     int64_t utime_capture;
+    /* the person's image made from data (2 floats a pixel: mirror_person_image), or NULL: the
+     * renderer makes it. The ring makes it when the frame arrives, while the sim still works on
+     * that frame: off the path from CLOTH to screen. */
+    const float *person;
 } mirror_depth;
 
 /* A triangle mesh in world coordinates. strain: per vertex (NULL = none), for the fit map. */
@@ -59,9 +63,13 @@ typedef struct mirror_view {
 typedef struct mirror_renderer mirror_renderer;
 mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t err_size);
 void mirror_renderer_destroy(mirror_renderer *r);
-/* Draws into the renderer's framebuffer object. Returns 0, or -MIRROR_ERR_x with err filled. */
+/* Where mirror_render draws: 0 = the window's back buffer (its size must be the picture's; it
+ * saves mirror_present's copy, 6 ms a frame on llvmpipe), anything else = the renderer's own
+ * framebuffer object (the default). */
+void mirror_renderer_draw_to_window(mirror_renderer *r, int window);
+/* Draws into the target above. Returns 0, or -MIRROR_ERR_x with err filled. */
 int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t err_size);
-/* The last picture, rows top to bottom, RGB: width * height * 3 bytes. */
+/* The last picture (from where it was drawn), rows top to bottom, RGB: width * height * 3. */
 int mirror_read_rgb(mirror_renderer *r, uint8_t *rgb);
 /* Copies the picture to framebuffer 0 (a window's back buffer). */
 void mirror_present(mirror_renderer *r, int window_w, int window_h);

@@ -85,6 +85,7 @@ typedef struct gl_mesh {
 struct mirror_renderer {
     int w, h;
     GLuint fbo, colour, depth;
+    GLuint target; /* drawn into: fbo, or 0 (the window's back buffer) */
     GLuint mesh_prog, quad_prog, person_prog;
     GLint u_mvp, u_view, u_tex;
     GLint u_person, u_fit, u_clip, u_rgba;
@@ -214,6 +215,7 @@ mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t
         mirror_renderer_destroy(r);
         return NULL;
     }
+    r->target = r->fbo;
     r->u_mvp = glGetUniformLocation(r->mesh_prog, "u_mvp");
     r->u_view = glGetUniformLocation(r->mesh_prog, "u_view");
     r->u_tex = glGetUniformLocation(r->quad_prog, "u_tex");
@@ -303,15 +305,18 @@ static void quad(mirror_renderer *r, const float xyuv[16])
 
 static int person(mirror_renderer *r, const mirror_depth *d, const float proj[16])
 {
-    if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
-        return -MIRROR_ERR_NO_MEMORY;
+    const float *image = d->person;
+    if (!image) {
+        if (mirror_person_image(d, &r->person_buf, &r->person_cap) < 0)
+            return -MIRROR_ERR_NO_MEMORY;
+        image = r->person_buf;
+    }
     float s, offx;
     mirror_picture_fit(d, r->w, r->h, &s, &offx);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r->depth_tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT,
-                 r->person_buf);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT, image);
     glUseProgram(r->person_prog);
     glUniform1i(r->u_person, 0);
     glUniform4f(r->u_fit, s, offx, (float)r->w, (float)r->h);
@@ -382,7 +387,7 @@ static void overlay(mirror_renderer *r, const char *text, int fit_map)
 
 int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
 {
-    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->target);
     glViewport(0, 0, r->w, r->h);
     glClearColor(MIRROR_BACKGROUND, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -434,7 +439,7 @@ int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
 
 int mirror_read_rgb(mirror_renderer *r, uint8_t *rgb)
 {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->target);
     glReadPixels(0, 0, r->w, r->h, GL_RGBA, GL_UNSIGNED_BYTE, r->rows);
     for (int y = 0; y < r->h; y++) { /* GL's rows run bottom to top */
         const uint8_t *src = r->rows + (size_t)(r->h - 1 - y) * r->w * 4;
@@ -463,6 +468,11 @@ void mirror_present(mirror_renderer *r, int window_w, int window_h)
     glBlitFramebuffer(0, 0, r->w, r->h, x, y, x + w, y + h, GL_COLOR_BUFFER_BIT,
                       w == r->w && h == r->h ? GL_NEAREST : GL_LINEAR);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+}
+
+void mirror_renderer_draw_to_window(mirror_renderer *r, int window)
+{
+    r->target = window ? 0 : r->fbo;
 }
 
 unsigned mirror_renderer_fbo(const mirror_renderer *r)

@@ -5,11 +5,14 @@
 #include <string.h>
 
 #include "mirror.h"
+#include "render_private.h"
 
 typedef struct slot {
     mirror_depth d;
     uint16_t *pixels;
-    size_t cap; /* pixels */
+    size_t cap;    /* pixels */
+    float *person; /* the person's image, made on arrival (mirror_person_image) */
+    int person_cap;
     int used;
 } slot;
 
@@ -27,8 +30,10 @@ void mirror_ring_destroy(mirror_ring *r)
 {
     if (!r)
         return;
-    for (int i = 0; i < MIRROR_RING; i++)
+    for (int i = 0; i < MIRROR_RING; i++) {
         free(r->s[i].pixels);
+        free(r->s[i].person);
+    }
     free(r);
 }
 
@@ -47,6 +52,9 @@ int mirror_ring_push(mirror_ring *r, const mirror_depth *d)
     s->d = *d;
     s->d.data = s->pixels;
     s->used = 1;
+    /* the person's image now, while the sim works on this frame, not once its CLOTH is here;
+     * without memory for it the renderer makes it then */
+    s->d.person = mirror_person_image(&s->d, &s->person, &s->person_cap) == 0 ? s->person : NULL;
     r->next = (r->next + 1) % MIRROR_RING;
     return 0;
 }

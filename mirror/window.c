@@ -1,5 +1,6 @@
 /* The kiosk window: SDL2 with an OpenGL ES 3 context (through EGL, as headless). The renderer
- * draws into its framebuffer object; mirror_present copies it to the window. */
+ * draws straight into the back buffer when the window is the picture's size; otherwise into its
+ * framebuffer object, which mirror_present scales into the window. */
 #include <SDL2/SDL.h>
 #include <stdio.h>
 
@@ -22,6 +23,9 @@ mirror_window *mirror_window_create(int width, int height, int kiosk, char *err,
     SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
     SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 0);
     SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+    /* the renderer may draw straight into the back buffer: the same depth bits as its own
+     * framebuffer object (SDL's default is 16), or the occlusion test would differ */
+    SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
     Uint32 flags = SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE;
     if (kiosk)
         flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;

@@ -57,6 +57,10 @@ brief() {
         END { printf "== budget %s: capture -> cloth p95 %s ms, sim work p95 %s ms, sim dropped %s; ", b, s, w, sd
               printf "on screen p95 %s ms, mirror dropped %s\n", m, md }' "$1"
     grep -ho "[0-9]* superseded.*" "$logs/tryon-sim.log" | tail -n 1 | sed 's/^/   tryon-sim: /'
+    # what the mirror adds after the cloth (p50s: the difference of two p95s means little)
+    awk '$1 == "sim" && NF == 10 { s = $8 } $1 == "mirror" && NF == 10 { m = $8; w = $5 }
+        $1 == "mirror/render" { r = $3 } $1 == "mirror/output" { o = $3 }
+        END { printf "   tryon-mirror: on screen - cloth p50 %.1f ms; work p50 %s ms (render %s, output %s)\n", m - s, w, r, o }' "$1"
     rm -rf "$logs" # the launcher's logs of this run, read
 }
 for k in $(seq "$runs"); do

@@ -65,6 +65,12 @@ static uint8_t *render(const char *dir, int windowed)
         char *log = ts_read_file(out);
         fail_msg("tryon-mirror exited with %d:\n%s", st, log ? log : "");
     }
+    if (windowed) { /* the window is the picture's size: drawn into it, not copied (mirror.md) */
+        char *log = ts_read_file(out);
+        assert_non_null(log);
+        assert_non_null(strstr(log, "drawing straight into the window's back buffer"));
+        free(log);
+    }
     snprintf(png, sizeof png, "%s/frame_00000.png", dir);
     int w = 0, h = 0;
     uint8_t *rgb = mirror_png_read(png, &w, &h);

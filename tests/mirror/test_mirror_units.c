@@ -18,7 +18,7 @@ static const float identity_c2w[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0,
 
 static mirror_depth frame(int64_t utime, uint16_t *px)
 {
-    mirror_depth d = {64, 48, 50.0f, 50.0f, 31.5f, 23.5f, 0.001f, {0}, px, utime};
+    mirror_depth d = {64, 48, 50.0f, 50.0f, 31.5f, 23.5f, 0.001f, {0}, px, utime, NULL};
     memcpy(d.camera_to_world, identity_c2w, sizeof identity_c2w);
     return d;
 }
@@ -43,6 +43,35 @@ static void test_ring_matches_cloth_to_its_depth_frame(void **state)
     assert_int_equal(d->utime_capture, 9000);       /* the newest older one */
     assert_null(mirror_ring_find(r, 2000, &exact)); /* fell out of the ring of 8 */
     assert_int_equal(mirror_ring_newest(r)->utime_capture, 12000);
+    mirror_ring_destroy(r);
+}
+
+/* The ring makes each frame's person image on arrival (off the path from CLOTH to screen): the
+ * very image the renderer would make from that frame, kept per slot. */
+static void test_ring_makes_each_frames_person_image(void **state)
+{
+    (void)state;
+    mirror_ring *r = mirror_ring_create();
+    assert_non_null(r);
+    uint16_t px[2][64 * 48];
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 64 * 48; i++) /* a slope 1.5-2.1 m, the second frame 10 cm farther */
+            px[k][i] = (uint16_t)(1500 + 100 * k + (i % 64) * 8 + (i / 64) * 3);
+    mirror_depth in[2] = {frame(1000, px[0]), frame(2000, px[1])};
+    for (int k = 0; k < 2; k++)
+        assert_int_equal(mirror_ring_push(r, &in[k]), 0);
+    for (int k = 0; k < 2; k++) {
+        int exact;
+        const mirror_depth *d = mirror_ring_find(r, in[k].utime_capture, &exact);
+        assert_non_null(d);
+        assert_non_null(d->person);
+        float *want = NULL;
+        int cap = 0;
+        assert_int_equal(mirror_person_image(&in[k], &want, &cap), 0);
+        assert_memory_equal(d->person, want, 64 * 48 * 2 * sizeof(float));
+        assert_true(d->person[0] > 1.5f); /* the first pixel's depth, pushed back by the margin */
+        free(want);
+    }
     mirror_ring_destroy(r);
 }
 
@@ -159,6 +188,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ring_matches_cloth_to_its_depth_frame),
+        cmocka_unit_test(test_ring_makes_each_frames_person_image),
         cmocka_unit_test(test_strain_is_measured_from_the_first_frame),
         cmocka_unit_test(test_fit_map_colours),
         cmocka_unit_test(test_world_points_land_on_the_mirrored_pixel),
