@@ -12,6 +12,9 @@
 #        of their limb (first frame and worst frame; docs/garments.md, "Pattern garments on the
 #        moving body")
 #        TRYON_BVH_DIR: where the clips are (default /usr/share/assimp/models/BVH)
+#        STRAIN_RETRY=-1: the strain retries off (tryon-bench-sim --strain-retry -1), to see
+#        what the frame's own iterations reach; the table's last columns count the frames
+#        retried for their strain and those that took settle rounds
 #        map: only the stability map's motion axes (arm angle: arms_down, trunk bend speed:
 #        bend_forward 1 Hz / bend_fast 0.7 s, wrist speed: fast_swing) against the time step
 #        (10, 25, 50 steps a frame) for each solver, 90 frames each, into $OUT/map.jsonl
@@ -29,14 +32,14 @@ import json, os, sys
 rows = [json.loads(line) for line in open(sys.argv[1])]
 limbs = any("garment" in j for j in rows)
 print("%-16s %-6s %5s %6s %8s %6s %8s %9s %9s %8s %8s" % ("motion", "solver", "iters", "frames",
-      "carried", "run", "pen0_%", "strain_%", "max_str%", "pen_mm", "ms_med") + " ms_p95" +
+      "carried", "run", "pen0_%", "strain_%", "max_str%", "pen_mm", "ms_med") + " ms_p95 retried settle" +
       ("  verts limb0_% limb_min%" if limbs else ""))
 for j in rows:
-    line = "%-16s %-6s %5d %6d %8d %6d %8.1f %9.1f %9.1f %8.1f %8.1f %6.1f" % (
+    line = "%-16s %-6s %5d %6d %8d %6d %8.1f %9.1f %9.1f %8.1f %8.1f %6.1f %7d %6d" % (
         os.path.basename(j["motion"])[:16], j["solver"], j["iterations"], j["frames"],
         j["carried_frames"], j["carried_run"], j["pen_free_frames_pct"],
         j["strain_ok_frames_pct"], 100 * j["max_strain"], j["max_pen_mm"], j["ms_median"],
-        j["ms_p95"])
+        j["ms_p95"], j["strain_retried_frames"], j["settle_frames"])
     if limbs:  # the sleeves' share near the arms, else the trouser legs' near the legs
         first = j["sleeve_near_first"] if j["sleeve_verts"] else j["leg_near_first"]
         worst = j["sleeve_near_min"] if j["sleeve_verts"] else j["leg_near_min"]
@@ -65,7 +68,8 @@ if [ -n "$GARMENT" ]; then
 fi
 : > "$JSONL"
 # shellcheck disable=SC2086 # WEAR is two options or none
-run() { "$BENCH" --scene body --verts 7000 --iterations 25 --backend c --no-ref $WEAR "$@" |
+run() { "$BENCH" --scene body --verts 7000 --iterations 25 --backend c --no-ref $WEAR \
+    ${STRAIN_RETRY:+--strain-retry "$STRAIN_RETRY"} "$@" |
     tail -n 1 >> "$JSONL"; }
 
 # a pattern garment: the headline's scene first (still, arm raise, turn, walk, fast swing)
