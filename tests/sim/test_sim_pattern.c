@@ -268,8 +268,8 @@ static void test_trousers_follow_the_waist(void **state)
 static void test_skirt_stands(void **state)
 {
     (void)state;
-    /* standing: on the walk the skirt and the jeans do not hold yet (docs/garments.md, "Pattern
-       garments on the moving body") */
+    /* standing: on the walk the skirt L does not hold yet (its waistband is dressed onto the
+       thighs), nor the jeans at this coarse mesh (docs/garments.md, "The jeans on the walk") */
     wear_on(FIT_MOTION_STILL, GAR_PATTERN_DIR "/skirt.json", SIM_SIZE_L, "skirt.json L cotton",
             FRAMES, 2, 0);
 }
