@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "collide.h"
 
 /* Eigenvector of the largest eigenvalue of the symmetric 4x4 a (destroyed), cyclic Jacobi. */
 static void largest_eigenvector(double a[4][4], double out[4])
@@ -145,6 +146,21 @@ void sim_follow(float (*x)[4], float (*x_prev)[4], int begin, int end, const flo
     }
 }
 
+/* Whether the anchors' band goes round two body parts, not one: its centre (on the body frame
+   k) lies outside the body. Half way down trousers or a skirt held at the waist are the thighs,
+   which swing opposite ways in a stride and read as the pelvis turning: fitted to them, the
+   moving frame turned the jeans 7.8 degrees and moved them 53 mm on the walk's first frame, the
+   frame diverged (docs/garments.md, "The jeans on the walk"). Such a garment follows its
+   attachments, the waist band itself. */
+static int band_between_parts(const struct sim *s)
+{
+    float c[3] = {0.0f, 0.0f, 0.0f};
+    for (int a = 0; a < s->num_follow_anchors; a++)
+        for (int d = 0; d < 3; d++)
+            c[d] += s->body.v[s->follow_anchor[a]][d] / (float)s->num_follow_anchors;
+    return sim_collider_clearly_outside(s->collider, c);
+}
+
 /* The anchors: of the garment's vertices whose tether length is within SIM_FOLLOW_BAND_M under
    SIM_FOLLOW_DEPTH of the longest, at most SIM_FOLLOW_ANCHORS evenly, each to the body vertex
    nearest it on the last body frame (where the cloth is). Chosen on the first body frame with a
@@ -183,6 +199,8 @@ static void choose_anchors(struct sim *s)
         if (bv >= 0)
             s->follow_anchor[s->num_follow_anchors++] = bv;
     }
+    if (s->num_follow_anchors >= 3 && band_between_parts(s))
+        s->num_follow_anchors = 0; /* follow_points falls back to the attachments */
 }
 
 /* The points the moving frame is fitted to, in frames k-1 (p) and k (q): the anchors, or where

@@ -21,5 +21,10 @@ for g in tshirt jeans; do
     "$build/sim/tryon-bench-sim" --scene body --verts 7000 --iterations 25 --backend c \
         --garment "garments/patterns/$g.json" --frames 150 --motion all | tail -n 6
 done
+for g in jeans skirt; do
+    echo "== $g M on two seconds of the walk (docs/garments.md, \"The jeans on the walk\")"
+    "$build/sim/tryon-bench-sim" --scene body --verts 7000 --iterations 25 --backend c --no-ref \
+        --garment "garments/patterns/$g.json" --motion walk --frames 60 | tail -n 1
+done
 echo "== test_sim_pattern: sewn, held, the T-shirt on half a second of the walk"
 "$build/tests/sim/test_sim_pattern" 2>&1 | grep -E "cotton:|OK|FAILED"
