@@ -23,6 +23,22 @@ static double json_field(const char *text, const char *key)
     return strtod(p + strlen(pat), NULL);
 }
 
+/* Runs tryon-bench-fit with argv, its output into log; it must exit 0 and end in a JSON line,
+   whose start goes to *json. Returns the output (the caller frees it). */
+static char *run_bench(char **argv, const char *log, const char **json)
+{
+    pid_t pid = ts_spawn_out(argv, NULL, log);
+    assert_true(pid > 0);
+    int rc = ts_wait(pid, 100000);
+    char *text = ts_read_file(log);
+    printf("%s", text ? text : "(no output)\n");
+    assert_int_equal(rc, 0);
+    assert_non_null(text);
+    *json = strrchr(text, '{');
+    assert_non_null(*json);
+    return text;
+}
+
 static void test_fit_bench_scores_and_writes(void **state)
 {
     (void)state;
@@ -39,15 +55,8 @@ static void test_fit_bench_scores_and_writes(void **state)
                     scores,
                     TRYON_SAMPLES_DIR "/arm_raise_s0_exact",
                     NULL};
-    pid_t pid = ts_spawn_out(argv, NULL, log);
-    assert_true(pid > 0);
-    int rc = ts_wait(pid, 100000);
-    char *text = ts_read_file(log);
-    printf("%s", text ? text : "(no output)\n");
-    assert_int_equal(rc, 0);
-    assert_non_null(text);
-    const char *json = strrchr(text, '{');
-    assert_non_null(json);
+    const char *json;
+    char *text = run_bench(argv, log, &json);
     assert_true(json_field(json, "surface_mm") > 0.0 && json_field(json, "surface_mm") < 10.0);
     assert_true(json_field(json, "joints_mm") > 0.0 && json_field(json, "joints_mm") < 30.0);
     assert_true(json_field(json, "ms_median") > 0.0);
@@ -101,15 +110,8 @@ static void test_fit_bench_cloth_vs_truth(void **state)
     snprintf(log, sizeof log, "%s/log.txt", dir);
     char *argv[] = {TRYON_BENCH_FIT_EXE, "--cloth-vertices", "300",
                     TRYON_SAMPLES_DIR "/arm_raise_s0_exact", NULL};
-    pid_t pid = ts_spawn_out(argv, NULL, log);
-    assert_true(pid > 0);
-    int rc = ts_wait(pid, 100000);
-    char *text = ts_read_file(log);
-    printf("%s", text ? text : "(no output)\n");
-    assert_int_equal(rc, 0);
-    assert_non_null(text);
-    const char *json = strrchr(text, '{');
-    assert_non_null(json);
+    const char *json;
+    char *text = run_bench(argv, log, &json);
     double d = json_field(json, "cloth_vs_truth_mm");
     assert_true(d > 0.0 && d < 20.0);
     assert_true(json_field(json, "cloth_vertices") == 300.0);
@@ -129,18 +131,14 @@ static void test_fit_bench_without_truth_and_bad_options(void **state)
              TRYON_SAMPLES_DIR, rec, rec, rec);
     assert_int_equal(system(cmd), 0);
     char *argv[] = {TRYON_BENCH_FIT_EXE, rec, NULL};
-    pid_t pid = ts_spawn_out(argv, NULL, log);
-    assert_int_equal(ts_wait(pid, 100000), 0);
-    char *text = ts_read_file(log);
-    assert_non_null(text);
-    const char *json = strrchr(text, '{');
-    assert_non_null(json);
+    const char *json;
+    char *text = run_bench(argv, log, &json);
     assert_true(json_field(json, "surface_mm") == -1.0);
     assert_true(json_field(json, "joints_mm") == -1.0);
     assert_true(json_field(json, "ms_median") > 0.0);
     free(text);
     char *bad[] = {TRYON_BENCH_FIT_EXE, "--no-such-option", rec, NULL};
-    pid = ts_spawn_out(bad, NULL, log);
+    pid_t pid = ts_spawn_out(bad, NULL, log);
     assert_int_equal(ts_wait(pid, 10000), 2);
     text = ts_read_file(log);
     assert_non_null(strstr(text, "unknown option --no-such-option"));
