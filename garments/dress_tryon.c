@@ -18,6 +18,7 @@
 #include "passes.h"
 #include "cloth_cloth.h"
 #include "dress_internal.h"
+#include "bending.h"
 
 #define GAR_GRAVITY_M_S2 9.81f
 /* Seams close no faster than this (m/s): the panels' interiors follow their edges. */
@@ -81,6 +82,8 @@ typedef struct tdress {
     uint8_t *skip;
     float *xyz, *push;     /* [vertex][3] scratch for cloth-cloth */
     const uint8_t *pinned; /* [vertex] 1 = held where it was placed (NULL = none) */
+    gar_bending bend;      /* isometric bending (bending.h), the fabric's rigidity */
+    int sweep_cols;        /* colours swept by the distance constraints */
     float *pin_xyz;        /* [vertex][3] where */
 } tdress;
 
@@ -169,15 +172,20 @@ static void cloth_cloth(tdress *d)
         }
 }
 
-static void constraints(tdress *d, float shrink)
+/* The distance constraints, the strain limit, bending (first sweep of a step only: XPBD's
+ * multipliers make one sweep honour the rigidity, and the sweeps cost a third more each with it)
+ * and the seams. */
+static void constraints(tdress *d, float shrink, int bend)
 {
     const int32_t(*ends)[2] = (const int32_t(*)[2])d->ends;
-    for (int c = 0; c < d->ncol; c++)
+    for (int c = 0; c < d->sweep_cols; c++)
         sim_project_springs(d->x, ends, d->rest, d->kind, d->alpha, d->col_start[c],
                             d->col_start[c + 1]);
     for (int c = 0; c < d->nstretch_col; c++)
         sim_strain_limit(d->x, ends, d->rest, d->kind, d->col_start[c], d->col_start[c + 1],
                          d->limit);
+    if (bend)
+        gar_bending_project(&d->bend, d->x);
     project_seams(d, shrink);
 }
 
@@ -196,14 +204,15 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
 {
     float g[3] = {0, -gravity * d->h * d->h, 0};
     sim_verlet(d->x, d->xp, 0, d->n, 1.0f - damping_per_s * d->h, g);
-    constraints(d, shrink);
+    gar_bending_begin_step(&d->bend);
+    constraints(d, shrink, 1);
     if (s % GAR_TRYON_CC_EVERY == 0)
         cloth_cloth(d);
     contacts(d, s % GAR_TRYON_CONTACT_EVERY == 0);
     /* further sweeps of constraints and contacts (cached): the stretch that the contacts put
      * back each sweep is what the strain limit removes next (docs/garments.md, "Strain") */
     for (int k = 1; k < d->iterations; k++) {
-        constraints(d, shrink);
+        constraints(d, shrink, 0);
         contacts(d, 0);
     }
     hold_pins(d);
@@ -213,8 +222,9 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
 static void settle(tdress *d)
 {
     for (int r = 0; r < GAR_TRYON_SETTLE_ROUNDS; r++) {
+        gar_bending_begin_step(&d->bend);
         sim_post_begin(d->x, d->xp, 0, d->n);
-        constraints(d, 0.0f);
+        constraints(d, 0.0f, 1);
         sim_post_end(d->x, d->xp, 0, d->n);
         contacts(d, r == 0);
         hold_pins(d);
@@ -292,6 +302,7 @@ static void tdress_free(tdress *d)
     free(d->x), free(d->xp), free(d->gap0), free(d->skip), free(d->xyz), free(d->push);
     free(d->pin_xyz);
     gar_springs_free(&d->sp);
+    gar_bending_free(&d->bend);
     sim_collider_destroy(d->col);
     gar_cc_destroy(d->cc);
 }
@@ -332,8 +343,14 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
         d->alpha[i] = 1.0f / (k[i] * d->h * d->h);
     for (int j = 0; j < m->num_joints; j++)
         d->gap0[j] = joint_gap(d, &m->joints[j]);
-    if ((rc = colour_springs(d)))
+    if ((rc = colour_springs(d)) || (rc = gar_bending_build(m, &d->bend)))
         return rc;
+    /* Bending is the isometric model's alone: distance constraints across an edge or over two
+     * edges, stiff at these masses and steps, locked the folds whatever their stiffness
+     * (docs/garments.md, "Bending"); in the plane a triangle mesh of stretch edges is rigid in
+     * shear by itself. */
+    d->sweep_cols = d->nstretch_col;
+    gar_bending_prepare(&d->bend, (const float(*)[4])d->x, fab->bend_rigidity_n_m, d->h);
     gar_seam_skip(m, &d->sp, d->skip);
     if (desc && desc->cloth_cloth && !(d->cc = gar_cc_create(m, d->skip)))
         return -GAR_ERR_NO_MEMORY;

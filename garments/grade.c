@@ -48,10 +48,10 @@ void gar_pattern_grade(gar_pattern *p, gar_size size)
  * silk light and limp in bending. max_strain: the elongation the seed's velocity correction
  * tolerates (seed 003, Vassilev), jersey knits stretch more than wovens. */
 static const gar_fabric fabrics[] = {
-    {"cotton", 0.15f, 1000.0f, 100.0f, 2.0f, 0.4f, 0.03f},
-    {"denim", 0.40f, 3000.0f, 300.0f, 10.0f, 0.5f, 0.02f},
-    {"jersey", 0.18f, 300.0f, 30.0f, 1.0f, 0.45f, 0.08f},
-    {"silk", 0.08f, 600.0f, 40.0f, 0.3f, 0.25f, 0.03f},
+    {"cotton", 0.15f, 1000.0f, 100.0f, 2.0f, 0.4f, 0.03f, 2e-5f},
+    {"denim", 0.40f, 3000.0f, 300.0f, 10.0f, 0.5f, 0.02f, 3e-4f},
+    {"jersey", 0.18f, 300.0f, 30.0f, 1.0f, 0.45f, 0.08f, 8e-6f},
+    {"silk", 0.08f, 600.0f, 40.0f, 0.3f, 0.25f, 0.03f, 2e-6f},
 };
 
 int gar_fabric_count(void)
