@@ -80,11 +80,13 @@ typedef struct tdress {
     sim_collider *col;
     gar_cc *cc;
     uint8_t *skip;
-    float *xyz, *push;     /* [vertex][3] scratch for cloth-cloth */
-    const uint8_t *pinned; /* [vertex] 1 = held where it was placed (NULL = none) */
-    gar_bending bend;      /* isometric bending (bending.h), the fabric's rigidity */
-    int sweep_cols;        /* colours swept by the distance constraints */
-    float *pin_xyz;        /* [vertex][3] where */
+    float *xyz, *push;       /* [vertex][3] scratch for cloth-cloth */
+    const uint8_t *pinned;   /* [vertex] 1 = held where it was placed (NULL = none) */
+    gar_bending bend;        /* isometric bending (bending.h), the fabric's rigidity */
+    int sweep_cols;          /* colours swept by the distance constraints */
+    float *pin_xyz;          /* [vertex][3] where */
+    const uint8_t *fastened; /* [vertex] 1 = a fastened waistband's (NULL = none) */
+    float *fast_y;           /* [vertex] the height it is held at: where it was placed */
 } tdress;
 
 static void partner(const tdress *d, const gar_joint *j, float out[3])
@@ -192,6 +194,9 @@ static void constraints(tdress *d, float shrink, int bend)
 /* Pinned vertices back where they were placed, at rest. */
 static void hold_pins(tdress *d)
 {
+    for (int i = 0; d->fast_y && i < d->n; i++)
+        if (d->fastened[i]) /* its height only: it is free to settle around the body */
+            d->x[i][1] = d->xp[i][1] = d->fast_y[i];
     for (int i = 0; d->pinned && i < d->n; i++)
         if (d->pinned[i]) {
             memcpy(d->x[i], d->pin_xyz + 3 * i, 3 * sizeof(float));
@@ -300,7 +305,7 @@ static void tdress_free(tdress *d)
 {
     free(d->ends), free(d->col_start), free(d->rest), free(d->kind);
     free(d->x), free(d->xp), free(d->gap0), free(d->skip), free(d->xyz), free(d->push);
-    free(d->pin_xyz);
+    free(d->pin_xyz), free(d->fast_y);
     gar_springs_free(&d->sp);
     gar_bending_free(&d->bend);
     sim_collider_destroy(d->col);
@@ -366,12 +371,33 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
     if (sim_collider_set_body(d->col, body->xyz, body->num_vertices, body->triangles,
                               body->num_triangles) < 0)
         return -GAR_ERR_ARG;
+    if ((d->fastened = body->fastened)) {
+        if (!(d->fast_y = malloc(n * sizeof *d->fast_y)))
+            return -GAR_ERR_NO_MEMORY;
+        for (size_t i = 0; i < n; i++)
+            d->fast_y[i] = m->xyz[3 * i + 1];
+    }
     if ((d->pinned = body->pinned)) {
         if (!(d->pin_xyz = malloc(n * 3 * sizeof *d->pin_xyz)))
             return -GAR_ERR_NO_MEMORY;
         memcpy(d->pin_xyz, m->xyz, n * 3 * sizeof *d->pin_xyz);
     }
     return 0;
+}
+
+uint8_t *gar_fastened_vertices(const gar_pattern *p, const gar_mesh *m)
+{
+    uint8_t *w = calloc((size_t)m->num_vertices + 1, 1);
+    for (int pi = 0; w && pi < p->num_panels && pi < m->num_panels; pi++)
+        for (int e = 0; e < p->panels[pi].num_edges && gar_panel_part(p, pi) == GAR_PART_TORSO;
+             e++) {
+            if (strcmp(p->panels[pi].edges[e].label, GAR_WAIST_LABEL))
+                continue;
+            int fe = m->panel_first_edge[pi] + e;
+            for (int k = m->edge_offset[fe]; k < m->edge_offset[fe + 1]; k++)
+                w[m->edge_vertices[k]] = 1;
+        }
+    return w;
 }
 
 int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_desc *desc,
@@ -429,9 +455,17 @@ int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
 {
     if (!p || !m || !body || !st)
         return gar_refuse(why, GAR_ERR_ARG, "dressing needs a pattern, its mesh and a body");
-    gar_body_mesh bm = {fit_model_rest_vertices(body), fit_model_vertex_count(body),
-                        fit_model_triangles(body), fit_model_triangle_count(body), NULL};
+    uint8_t *waist = gar_fastened_vertices(p, m);
+    if (!waist)
+        return gar_refuse(why, GAR_ERR_NO_MEMORY, "dressing (%d vertices)", m->num_vertices);
+    gar_body_mesh bm = {fit_model_rest_vertices(body),
+                        fit_model_vertex_count(body),
+                        fit_model_triangles(body),
+                        fit_model_triangle_count(body),
+                        NULL,
+                        waist};
     int rc = gar_dress_tryon_on(m, &bm, desc, st, why);
+    free(waist);
     if (rc)
         return rc;
     float ms = st->ms, seaming = st->seaming_s;
