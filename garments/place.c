@@ -12,7 +12,7 @@
 
 #define GAR_DEFAULT_CLEARANCE_M 0.02f
 /* The shipped files are drawn for bodyfit's average body (1.75 m) and its torso slices' heights
- * (fit_model_measure: hip, waist, chest; test_garment_place checks them against the model). A
+ * (fit_model_measure: hip, waist, chest; test_garment_waist checks them against the model). A
  * file's heights are mapped piecewise linearly through these to the actual body's, so that what
  * the file puts at the reference waist lands at this body's waist: scaling by height alone put
  * a skirt's waistband 10 cm under the slim tall body's waist (docs/garments.md, "Placement"). */

@@ -86,6 +86,42 @@ static void test_skirt_at_waist_broad_short(void **state)
     skirt_at_waist(2);
 }
 
+/* On the average body, the reference the files are drawn for, placement keeps the file's heights:
+ * place.c's reference landmarks are that body's (fit_model_measure). */
+static void test_average_body_keeps_file_heights(void **state)
+{
+    (void)state;
+    char err[200];
+    fit_model *b = fit_model_create(
+        &(fit_model_desc){.shape = fit_shape_preset(0), .target_vertices = 6000}, err, sizeof err);
+    if (!b)
+        fail_msg("body: %s", err);
+    gar_pattern p;
+    gar_reject why = {0};
+    if (gar_pattern_load(GAR_PATTERN_DIR "/skirt.json", &p, &why))
+        fail_msg("%s", why.detail);
+    gar_mesh m;
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
+    assert_int_equal(gar_mesh_place(&p, &m, b, NULL, NULL, NULL, &why), 0);
+    uint8_t *waist = gar_fastened_vertices(&p, &m);
+    assert_non_null(waist);
+    double file = 0;
+    int n = 0;
+    for (int i = 0; i < m.num_vertices; i++)
+        if (waist[i]) {
+            float w[3];
+            gar_panel_to_world(&p.panels[m.panel_of[i]], m.uv_m + 2 * i, w);
+            file += w[1];
+        }
+    float placed = waist_height(waist, &m, &n);
+    printf("average body: waistband %.4f m in the file, %.4f m placed\n", file / n, placed);
+    assert_true(fabs(placed - file / n) < 0.003);
+    free(waist);
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
+    fit_model_destroy(b);
+}
+
 /* Only a torso panel's waist is fastened: trousers hang from the crotch too. */
 static void test_only_skirt_waist_fastened(void **state)
 {
@@ -112,6 +148,7 @@ int main(void)
         cmocka_unit_test(test_skirt_at_waist_slim_tall),
         cmocka_unit_test(test_skirt_at_waist_broad_short),
         cmocka_unit_test(test_only_skirt_waist_fastened),
+        cmocka_unit_test(test_average_body_keeps_file_heights),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
