@@ -219,6 +219,64 @@ static void test_control_switches_garment_and_ctrl_c_stops_all(void **state)
     finish(&r, st, 0);
 }
 
+static void expect_refusal(char *const argv[], char *const env[], int status, const char *text);
+
+/* tryon pace: the recorded bodies as they come, stamped as captured now. */
+typedef struct paced {
+    int bodies, in_order, spaced;
+    int32_t last_seq;
+    int64_t first_capture, last_capture, late_us;
+} paced;
+
+static void on_paced_body(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    const tryon_body_t *b = m;
+    paced *p = user;
+    int64_t now = bus_now_wall_us();
+    if (p->bodies == 0)
+        p->first_capture = b->utime_capture;
+    else {
+        p->in_order += b->seq > p->last_seq;
+        /* 30 fps: 33,333 us between two captures */
+        p->spaced += b->utime_capture - p->last_capture == 33333;
+    }
+    if (now - b->utime_capture > p->late_us)
+        p->late_us = now - b->utime_capture;
+    p->last_seq = b->seq;
+    p->last_capture = b->utime_capture;
+    p->bodies++;
+}
+
+/* The session's BODY stream played at 30 fps by `tryon pace`: every body, in order, each
+ * stamped as captured now, 1/30 s apart, and received within a second of that stamp (its
+ * recorded latency and the bus). */
+static void pace_bodies(const char *log, int expected)
+{
+    char err[256], ch_body[BUS_CHANNEL_MAX];
+    lcm_t *lcm = bus_open(NULL, err, sizeof err);
+    assert_non_null(lcm);
+    bus_channel(BUS_CHANNEL_BODY, ch_body, sizeof ch_body);
+    paced p = {0};
+    bus_sub *sub = bus_subscribe(lcm, ch_body, BUS_BODY, on_paced_body, &p);
+    int64_t start = bus_now_wall_us();
+    char *argv[] = {TRYON_EXE, "pace", (char *)log, "--fps", "30", NULL};
+    pid_t pid = ts_spawn(argv, NULL);
+    int64_t end = bus_now_mono_us() + 20 * 1000000LL;
+    while (p.bodies < expected && bus_now_mono_us() < end)
+        lcm_handle_timeout(lcm, 50);
+    assert_int_equal(ts_wait(pid, 10000), 0);
+    bus_unsubscribe(lcm, sub);
+    lcm_destroy(lcm);
+    print_message("tryon pace: %d bodies, %d in order, %d spaced 1/30 s, the latest %.1f ms after "
+                  "its stamp\n",
+                  p.bodies, p.in_order, p.spaced, (double)p.late_us / 1e3);
+    assert_int_equal(p.bodies, expected);
+    assert_int_equal(p.in_order, expected - 1);
+    assert_int_equal(p.spaced, expected - 1);
+    assert_true(p.first_capture >= start && p.late_us >= 0 && p.late_us < 1000000);
+}
+
 static void test_recorded_session_replays(void **state)
 {
     (void)state;
@@ -244,6 +302,11 @@ static void test_recorded_session_replays(void **state)
     free(said);
     snprintf(png, sizeof png, "%s/frame_00000.png", frames); /* the replay drew the garment */
     assert_int_equal(access(png, R_OK), 0);
+    pace_bodies(log, 8); /* the sample's 8 frames, each a body */
+    char *no_log[] = {TRYON_EXE, "pace", png, NULL};
+    expect_refusal(no_log, NULL, 2, "not an LCM log with BODY messages");
+    char *bad_fps[] = {TRYON_EXE, "pace", log, "--fps", "0", NULL};
+    expect_refusal(bad_fps, NULL, 2, "--fps");
     ts_remove_dir(dir);
 }
 
