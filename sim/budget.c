@@ -75,12 +75,13 @@ void sim_pace_published(sim_pace *p, float ms)
 float sim_pace_budget_ms(const sim_pace *p, int64_t capture_us, int64_t now_us, float deadline_ms,
                          float fallback_ms)
 {
-    if (!(p->period_ms > 0.0f))
-        return fallback_ms;
+    double age_ms = (double)(now_us - capture_us) / 1000.0;
+    if (!(p->period_ms > 0.0f) || !(age_ms <= SIM_PACE_MAX_MS))
+        return fallback_ms; /* no pace yet, or a stamp from another time (a log played again) */
     double due_ms = (double)p->period_ms + (double)p->arrive_ms; /* the next body, from capture */
     if (deadline_ms > 0.0f && deadline_ms < due_ms)
         due_ms = deadline_ms;
-    double left = due_ms - (double)(now_us - capture_us) / 1000.0 - (double)p->publish_ms;
+    double left = due_ms - age_ms - (double)p->publish_ms;
     return left > SIM_PACE_MIN_MS ? (float)left : SIM_PACE_MIN_MS;
 }
 

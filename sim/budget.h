@@ -44,8 +44,9 @@ void sim_pace_published(sim_pace *p, float ms);
 /* The frame budget (ms from now_us, sim_desc.frame_budget_ms) of the body captured at
  * capture_us: its frame ends, publishing included, by the earlier of the next body's arrival
  * (capture + period + arrive) and capture + deadline_ms (0: no such deadline). fallback_ms until
- * the pace is known; at least SIM_PACE_MIN_MS when the deadline has passed (0 would be no budget
- * to sim_step: no settle round runs, the frame is as short as it can be). */
+ * the pace is known, and for a body captured more than a second ago (a recorded log played
+ * again: its stamps say nothing of now); at least SIM_PACE_MIN_MS when the deadline has passed
+ * (0 would be no budget to sim_step: no settle round runs, the frame is as short as it can be). */
 float sim_pace_budget_ms(const sim_pace *p, int64_t capture_us, int64_t now_us, float deadline_ms,
                          float fallback_ms);
 #define SIM_PACE_MIN_MS 0.001f

@@ -183,6 +183,8 @@ static void test_pace_deadline_from_the_bodies(void **state)
     assert_float_equal(sim_pace_budget_ms(&p, t0, t0 + 20000, 60.0f, 20.0f), 32.0f, 1e-3f);
     /* started past the deadline: the shortest frame, never 0 (no budget at all to sim_step) */
     assert_true(sim_pace_budget_ms(&p, t0, t0 + 60000, 45.0f, 20.0f) == SIM_PACE_MIN_MS);
+    /* a body captured 2 s ago (a log played again): the fallback */
+    assert_true(sim_pace_budget_ms(&p, t0, t0 + 2000000, 45.0f, 20.0f) == 20.0f);
     /* a restarted body stage (seq back to 0), a paused recording: no period learnt from them */
     sim_pace_body(&p, 0, t0 + 132000, t0 + 152000, 1);
     sim_pace_body(&p, 1, t0 + 5000000, t0 + 5020000, 1);
