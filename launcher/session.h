@@ -55,6 +55,8 @@ int session_log_each(const char *path,
                      void *user);
 /* tryon pace LOG: a recorded session's bodies played at the camera's pace (pace.c). */
 int tryon_pace(int argc, char **argv);
+/* tryon path LOG: where each frame's time went, stage by stage (path.c). */
+int tryon_path(int argc, char **argv);
 /* Supervises until the source ends, the view quits, Ctrl-C, or a stage fails for good; then
  * stops every stage. Returns the launcher's exit status. */
 int session_supervise(session *s);

@@ -10,7 +10,8 @@
 #    --frame-budget in LATENCY_FIG_BUDGETS, alternated LATENCY_FIG_RUNS times: bodies superseded,
 #    frames over their budget, settle rounds, the cloth published settling and its strain, CPU ms
 #    a frame (every thread: load does not change it), work and capture -> cloth p95 (load does).
-# 3. One pipeline run (`tryon run --headless`, all four stages real): each stage's CPU ms a frame.
+# 3. One pipeline run (`tryon run --headless --record`, all four stages real): each stage's CPU
+#    ms a frame, and where the frames' time went, stage by stage (`tryon path` on its log).
 # Environment: LATENCY_FIG_FRAMES (150), LATENCY_FIG_BODY_VERTS (6000), LATENCY_FIG_RUNS (2),
 # LATENCY_FIG_BUDGETS ("auto 20 0"), LATENCY_FIG_PIPELINE (1; 0 skips part 3).
 set -euo pipefail
@@ -88,12 +89,11 @@ done
 [ "${LATENCY_FIG_PIPELINE:-1}" = 1 ] || exit 0
 echo "== the pipeline, headless, all four stages real; before it: $(uptime)"
 "$tryon" run "$rec" --body bodyfit --backend c --headless --out "$out" --png-every 100000 \
-    >"$out/run.txt"
-logs=$(sed -n 's/^== logs: //p' "$out/run.txt")
+    --record "$out/session" >"$out/run.txt"
 sed -n '/^stage /,/^{/p' "$out/run.txt"
 # CPU ms a frame: the launcher's CPU seconds over the frames each stage put out
 awk '$1 ~ /^(capture|bodyfit|sim|mirror)$/ && NF == 10 { f[$1] = $2 }
      /CPU time per stage/ { cpu = 1 } cpu && $1 ~ /^tryon-/ { s = substr($1, 7); c[s] = $2 }
      END { for (s in f) if (s in c) printf "   %-8s %6.1f ms CPU a frame (%s s over %d frames)\n", s, 1000 * c[s] / f[s], c[s], f[s] }' \
     "$out/run.txt" | sort
-rm -rf "$logs"
+"$tryon" path "$out/session/session.lcmlog"

@@ -277,6 +277,41 @@ static void pace_bodies(const char *log, int expected)
     assert_true(p.first_capture >= start && p.late_us >= 0 && p.late_us < 1000000);
 }
 
+/* tryon path on the session: the path to the sim over at least one frame of the 8, each segment
+ * with its p50, p95 and mean, the means adding up to the total's (each frame's total is the sum
+ * of its segments); then the path to the mirror. */
+static void path_adds_up(const char *log, const char *txt)
+{
+    char *argv[] = {TRYON_EXE, "path", (char *)log, NULL};
+    assert_int_equal(ts_wait(ts_spawn_out(argv, NULL, txt), 30000), 0);
+    char *said = ts_read_file(txt);
+    assert_non_null(said);
+    print_message("%s", said);
+    int frames = 0;
+    const char *at = strstr(said, "== capture -> sim, ");
+    int ok = at && sscanf(at, "== capture -> sim, %d frames", &frames) == 1 && frames >= 1 &&
+             frames <= 8;
+    double sum = 0.0, total = -1.0;
+    for (const char *line = at ? strchr(at, '\n') : NULL; ok && line && line[1] == ' ';
+         line = strchr(line + 1, '\n')) {
+        double p50, p95, mean;
+        const char *nums = line + 1 + 34; /* after the segment's name */
+        ok = strlen(line) > 35 && sscanf(nums, "%lf %lf %lf", &p50, &p95, &mean) == 3 &&
+             p50 <= p95 + 1e-9;
+        if (strstr(line, "capture -> sim finished") &&
+            strstr(line, "capture -> sim finished") < strchr(line + 1, '\n'))
+            total = mean;
+        else
+            sum += mean;
+    }
+    ok = ok && total > 0.0 && sum > total - 0.5 && sum < total + 0.5 &&
+         strstr(said, "== capture -> mirror, ");
+    free(said);
+    if (!ok)
+        fail_msg("tryon path: no path to the sim whose segments add up (%.1f against %.1f ms)", sum,
+                 total);
+}
+
 static void test_recorded_session_replays(void **state)
 {
     (void)state;
@@ -303,6 +338,7 @@ static void test_recorded_session_replays(void **state)
     snprintf(png, sizeof png, "%s/frame_00000.png", frames); /* the replay drew the garment */
     assert_int_equal(access(png, R_OK), 0);
     pace_bodies(log, 8); /* the sample's 8 frames, each a body */
+    path_adds_up(log, txt);
     char *no_log[] = {TRYON_EXE, "pace", png, NULL};
     expect_refusal(no_log, NULL, 2, "not an LCM log with BODY messages");
     char *bad_fps[] = {TRYON_EXE, "pace", log, "--fps", "0", NULL};
