@@ -438,7 +438,7 @@ static void step_body(app *a)
     a->published_us = bus_now_wall_us();
     sim_pace_published(&a->pace, (float)(bus_now_mono_us() - t_pub) / 1000.0f);
     if (a->stats)
-        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.2f\n", b->seq, st.state,
+        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.3f\n", b->seq, st.state,
                 st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
                 st.feature_points_moved, st.max_strain, st.max_pen_mm, st.ms_iterations,
                 st.ms_total, cpu_ms, budget);
