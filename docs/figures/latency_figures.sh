@@ -13,7 +13,8 @@
 # 3. One pipeline run (`tryon run --headless --record`, all four stages real): each stage's CPU
 #    ms a frame, and where the frames' time went, stage by stage (`tryon path` on its log).
 # Environment: LATENCY_FIG_FRAMES (150), LATENCY_FIG_BODY_VERTS (6000), LATENCY_FIG_RUNS (2),
-# LATENCY_FIG_BUDGETS ("auto 20 0"), LATENCY_FIG_PIPELINE (1; 0 skips part 3).
+# LATENCY_FIG_BUDGETS ("auto 20 0"; auto:MS is auto with --deadline MS), LATENCY_FIG_PIPELINE (1;
+# 0 skips part 3).
 set -euo pipefail
 build=${1:?usage: latency_figures.sh BUILD_DIR}
 cd "$(dirname "$0")/../.."
@@ -52,7 +53,9 @@ paced() {
     local url=udpm://239.255.76.67:$((7700 + RANDOM % 200))?ttl=0\&recv_buf_size=8388608
     local prefix=LATFIG$$_
     export TRYON_LCM_URL=$url TRYON_CHANNEL_PREFIX=$prefix
-    timeout 120 "$(bin tryon-sim)" --backend c --frame-budget "$1" --frames "$bodies" \
+    local opt=(--frame-budget "${1%%:*}")
+    [ "${1#*:}" = "$1" ] || opt+=(--deadline "${1#*:}")
+    timeout 120 "$(bin tryon-sim)" --backend c "${opt[@]}" --frames "$bodies" \
         --stats "$out/sim.csv" 2>"$out/sim.log" &
     local sim=$!
     "$(bin tryon-profile)" --live $((bodies / 30 + 4)) >"$out/profile.txt" 2>&1 &
