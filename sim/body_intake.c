@@ -3,6 +3,7 @@
 
 #include "cloth.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -109,4 +110,23 @@ void sim_topologies_mark_live(sim_topologies *t, int32_t id, int64_t now_us)
     t->has_live = 1;
     t->live_id = id;
     t->live_us = now_us;
+}
+
+static int by_value(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+float sim_body_motion_mm(const float *before, const float *now, int nv, float *scratch)
+{
+    if (nv <= 0)
+        return 0.0f;
+    for (int i = 0; i < nv; i++) {
+        float dx = now[3 * i] - before[3 * i], dy = now[3 * i + 1] - before[3 * i + 1],
+              dz = now[3 * i + 2] - before[3 * i + 2];
+        scratch[i] = 1000.0f * sqrtf(dx * dx + dy * dy + dz * dz);
+    }
+    qsort(scratch, (size_t)nv, sizeof *scratch, by_value);
+    return scratch[nv / 2];
 }

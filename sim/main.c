@@ -95,6 +95,9 @@ typedef struct app {
     sim_pace pace;
     int64_t published_us; /* wall clock: the last frame's CLOTH and TIMING went out */
     int over_budget;      /* frames whose sim_step took longer than their budget */
+    float *moved_xyz;     /* --stats: the last simulated body, for its motion (body_intake.h) */
+    float *moved_scratch;
+    int moved_nv;
 } app;
 
 /* --backend auto: where the device OpenCL would open is a GPU, the faster backend on the first
@@ -368,6 +371,25 @@ static int shape_moved(const app *a, const pending_body *b)
     return 0;
 }
 
+/* --stats: the median vertex's motion since the last simulated body, mm; -1 for the first body
+ * and after the vertex count changed (or without memory). */
+static float body_moved(app *a, const pending_body *b)
+{
+    float mm = -1.0f;
+    if (a->moved_xyz && a->moved_nv == b->nv)
+        mm = sim_body_motion_mm(a->moved_xyz, b->xyz, b->nv, a->moved_scratch);
+    if (a->moved_nv != b->nv) {
+        free(a->moved_xyz);
+        free(a->moved_scratch);
+        a->moved_xyz = malloc((size_t)b->nv * 3 * sizeof *a->moved_xyz);
+        a->moved_scratch = malloc((size_t)b->nv * sizeof *a->moved_scratch);
+        a->moved_nv = a->moved_xyz && a->moved_scratch ? b->nv : 0;
+    }
+    if (a->moved_nv)
+        memcpy(a->moved_xyz, b->xyz, (size_t)b->nv * 3 * sizeof *a->moved_xyz);
+    return mm;
+}
+
 static void step_body(app *a)
 {
     pending_body *b = &a->next;
@@ -438,10 +460,10 @@ static void step_body(app *a)
     a->published_us = bus_now_wall_us();
     sim_pace_published(&a->pace, (float)(bus_now_mono_us() - t_pub) / 1000.0f);
     if (a->stats)
-        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.3f\n", b->seq, st.state,
-                st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
+        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f\n", b->seq,
+                st.state, st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
                 st.feature_points_moved, st.max_strain, st.max_pen_mm, st.ms_iterations,
-                st.ms_total, cpu_ms, budget);
+                st.ms_total, cpu_ms, budget, body_moved(a, b));
     a->frames_done++;
     if (a->diverged_run >= SIM_MAIN_DIVERGED_REBUILD) {
         fprintf(stderr,
@@ -462,7 +484,8 @@ static int usage(FILE *f, int rc)
             "                 [--frame-budget auto|MS] [--deadline MS] [--stats FILE]\n"
             "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
             "          strain retries, iterations, feature points moved, max strain, max\n"
-            "          penetration mm, iterations ms, total ms, CPU ms (all threads), budget ms)\n"
+            "          penetration mm, iterations ms, total ms, CPU ms (all threads), budget ms,\n"
+            "          the body's median vertex motion since the last simulated body, mm)\n"
             "  --backend auto (default): where the OpenCL device is a GPU, the faster of C and\n"
             "          OpenCL on the first garment, measured; OpenCL where TRYON_CL_DEVICE names\n"
             "          a device; else C. opencl falls back to C when no device opens\n"
@@ -559,7 +582,7 @@ static int parse(app *a, int argc, char **argv)
             fprintf(a->stats,
                     "body,state,settle_rounds,retries,strain_retries,iterations,"
                     "feature_points_moved,max_strain,max_pen_mm,ms_iterations,ms_total,cpu_ms,"
-                    "budget_ms\n");
+                    "budget_ms,body_move_mm\n");
         else {
             fprintf(stderr, "tryon-sim: unknown option or bad value: %s %s\n", o, v);
             return -1;
@@ -645,5 +668,7 @@ int main(int argc, char **argv)
         fclose(a.stats);
     free(a.xyz);
     free(a.next.xyz);
+    free(a.moved_xyz);
+    free(a.moved_scratch);
     return failed ? 1 : 0;
 }

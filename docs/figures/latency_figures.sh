@@ -10,11 +10,14 @@
 #    --frame-budget in LATENCY_FIG_BUDGETS, alternated LATENCY_FIG_RUNS times: bodies superseded,
 #    frames over their budget, settle rounds, the cloth published settling and its strain, CPU ms
 #    a frame (every thread: load does not change it), work and capture -> cloth p95 (load does).
+# 2b. The same bodies, every one (--queue all, 8 fps, no budget): the settle rounds by how far
+#    the body moved since the one before (its median vertex, --stats body_move_mm): what
+#    skipping the rounds of a body that moved less than the fitter's noise would save.
 # 3. One pipeline run (`tryon run --headless --record`, all four stages real): each stage's CPU
 #    ms a frame, and where the frames' time went, stage by stage (`tryon path` on its log).
 # Environment: LATENCY_FIG_FRAMES (150), LATENCY_FIG_BODY_VERTS (6000), LATENCY_FIG_RUNS (2),
-# LATENCY_FIG_BUDGETS ("auto 20 0"; auto:MS is auto with --deadline MS), LATENCY_FIG_PIPELINE (1;
-# 0 skips part 3).
+# LATENCY_FIG_BUDGETS ("auto 20 0"; auto:MS is auto with --deadline MS), LATENCY_FIG_MOTION (1;
+# 0 skips part 2b), LATENCY_FIG_PIPELINE (1; 0 skips part 3).
 set -euo pipefail
 build=${1:?usage: latency_figures.sh BUILD_DIR}
 cd "$(dirname "$0")/../.."
@@ -48,11 +51,14 @@ if [ ! -f "$fitted/session.lcmlog" ]; then
 fi
 bodies=$(sed -n 's/.*published \([0-9]*\) bodies.*/\1/p' "$fitted/tryon-bodyfit.log")
 
+# bus: a private URL and channel prefix for tryon-sim and tryon pace.
+bus() {
+    export TRYON_LCM_URL=udpm://239.255.76.67:$((7700 + RANDOM % 200))?ttl=0\&recv_buf_size=8388608
+    export TRYON_CHANNEL_PREFIX=LATFIG$$_
+}
 # paced BUDGET: the fitted bodies at 30 fps into tryon-sim --frame-budget BUDGET; one line.
 paced() {
-    local url=udpm://239.255.76.67:$((7700 + RANDOM % 200))?ttl=0\&recv_buf_size=8388608
-    local prefix=LATFIG$$_
-    export TRYON_LCM_URL=$url TRYON_CHANNEL_PREFIX=$prefix
+    bus
     local opt=(--frame-budget "${1%%:*}")
     [ "${1#*:}" = "$1" ] || opt+=(--deadline "${1#*:}")
     timeout 120 "$(bin tryon-sim)" --backend c "${opt[@]}" --frames "$bodies" \
@@ -88,6 +94,23 @@ for k in $(seq "$runs"); do
         paced "$b"
     done
 done
+
+if [ "${LATENCY_FIG_MOTION:-1}" = 1 ]; then
+    echo "== every body (--queue all, 8 fps, --frame-budget 0): settle rounds by the body's motion"
+    bus
+    timeout 120 "$(bin tryon-sim)" --backend c --queue all --frame-budget 0 --frames "$bodies" \
+        --stats "$out/all.csv" 2>"$out/all.log" &
+    sim=$!
+    sleep 1
+    "$tryon" pace "$fitted/session.lcmlog" --fps 8 >/dev/null
+    wait "$sim" || echo "   tryon-sim: $(tail -n 2 "$out/all.log")"
+    unset TRYON_LCM_URL TRYON_CHANNEL_PREFIX
+    # 3 settle rounds, 14 body_move_mm (-1: the first body)
+    awk -F, 'NR > 1 && $14 >= 0 { m = $14; b = m < 1 ? "0-1" : m < 1.5 ? "1-1.5" : m < 2 ? "1.5-2" : m < 3 ? "2-3" : ">= 3"
+             n[b]++; s[b] += $3; any[b] += ($3 > 0); all += $3 }
+        END { for (b in n) printf "   moved %-5s mm: %3d bodies, settle rounds %.1f a body (%d with any), %.1f %% of all rounds\n",
+              b, n[b], s[b] / n[b], any[b], 100 * s[b] / all }' "$out/all.csv" | sort
+fi
 
 [ "${LATENCY_FIG_PIPELINE:-1}" = 1 ] || exit 0
 echo "== the pipeline, headless, all four stages real; before it: $(uptime)"

@@ -93,10 +93,26 @@ static void test_bodies_over_the_limits_are_refused(void **state)
     sim_topologies_free(&t);
 }
 
+/* A body's motion is its median vertex's: 5 of 9 vertices moved 1 mm and 4 moved 100 mm (an arm
+ * swinging) read 1 mm; a still body reads 0. */
+static void test_body_motion_is_the_median_vertex(void **state)
+{
+    (void)state;
+    enum { NV = 9 };
+    float before[NV * 3] = {0}, now[NV * 3] = {0}, scratch[NV];
+    assert_true(sim_body_motion_mm(before, now, NV, scratch) == 0.0f);
+    for (int i = 0; i < NV; i++)
+        now[3 * i + (i % 3)] = i < 5 ? 0.001f : -0.1f;
+    float mm = sim_body_motion_mm(before, now, NV, scratch);
+    assert_true(mm > 0.999f && mm < 1.001f);
+    assert_true(sim_body_motion_mm(before, now, 0, scratch) == 0.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lists_are_kept_and_found_by_id),
+        cmocka_unit_test(test_body_motion_is_the_median_vertex),
         cmocka_unit_test(test_strays_cannot_evict_the_live_list),
         cmocka_unit_test(test_a_stale_live_list_gives_way_within_the_bound),
         cmocka_unit_test(test_bodies_over_the_limits_are_refused),

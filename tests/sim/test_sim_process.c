@@ -231,7 +231,7 @@ static void test_sim_process_latest_body_wins(void **state)
     free(log);
 }
 
-/* --stats FILE: a header, then one CSV line of 13 fields per simulated body (as many as CLOTH
+/* --stats FILE: a header, then one CSV line of 14 fields per simulated body (as many as CLOTH
  * messages came back), iterations, milliseconds and CPU time positive, the budget (the default,
  * --frame-budget auto) positive. */
 static void test_sim_process_stats_file(void **state)
@@ -259,13 +259,14 @@ static void test_sim_process_stats_file(void **state)
     int rows = 0;
     for (char *line = strchr(csv, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
         int body, st, settle, retries, strain_retries, iters, fp;
-        float strain, pen, ms_it, ms, cpu, budget;
-        assert_int_equal(sscanf(line + 1, "%d,%d,%d,%d,%d,%d,%d,%f,%f,%f,%f,%f,%f", &body, &st,
+        float strain, pen, ms_it, ms, cpu, budget, moved;
+        assert_int_equal(sscanf(line + 1, "%d,%d,%d,%d,%d,%d,%d,%f,%f,%f,%f,%f,%f,%f", &body, &st,
                                 &settle, &retries, &strain_retries, &iters, &fp, &strain, &pen,
-                                &ms_it, &ms, &cpu, &budget),
-                         13);
+                                &ms_it, &ms, &cpu, &budget, &moved),
+                         14);
         assert_true(iters > 0 && ms > 0.0f && settle >= 0 && fp >= 0);
         assert_true(cpu > 0.0f && budget > 0.0f);
+        assert_true(rows == 0 ? moved == -1.0f : moved >= 0.0f); /* the first has none before */
         rows++;
     }
     assert_int_equal(rows, s.n.cloth);
