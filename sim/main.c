@@ -93,9 +93,11 @@ typedef struct app {
     int budget_auto;   /* --frame-budget auto: each body's budget from the pace (budget.c) */
     float deadline_ms; /* --deadline: capture -> cloth, for --frame-budget auto (0: none) */
     sim_pace pace;
-    int64_t published_us; /* wall clock: the last frame's CLOTH and TIMING went out */
-    int over_budget;      /* frames whose sim_step took longer than their budget */
-    float *moved_xyz;     /* --stats: the last simulated body, for its motion (body_intake.h) */
+    int64_t published_us;  /* wall clock: the last frame's CLOTH and TIMING went out */
+    int over_budget;       /* frames whose sim_step took longer than their budget */
+    float settle_floor_mm; /* --settle-floor: a body that moved less gets no settle round */
+    int settle_skipped;    /* bodies that did */
+    float *moved_xyz;      /* --stats, --settle-floor: the last simulated body, for its motion */
     float *moved_scratch;
     int moved_nv;
 } app;
@@ -434,6 +436,12 @@ static void step_body(app *a)
     if (a->budget_auto)
         budget = sim_pace_budget_ms(&a->pace, b->utime_capture, bus_now_wall_us(), a->deadline_ms,
                                     SIM_MAIN_FRAME_BUDGET_MS);
+    float moved = a->stats || a->settle_floor_mm > 0.0f ? body_moved(a, b) : -1.0f;
+    int still = moved >= 0.0f && moved < a->settle_floor_mm;
+    if (still) { /* the fitter's noise: nothing to settle */
+        budget = SIM_PACE_MIN_MS;
+        a->settle_skipped++;
+    }
     sim_set_frame_budget(a->sim, budget);
     sim_frame_stats st;
     int64_t cpu0 = bus_now_cpu_us(); /* every OpenMP thread's */
@@ -452,7 +460,7 @@ static void step_body(app *a)
     if (r == -SIM_ERR_DIVERGED)
         fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
                 why.detail);
-    a->over_budget += budget > 0.0f && st.ms_total > budget;
+    a->over_budget += budget > 0.0f && st.ms_total > budget && !still;
     bus_timing_add(&t, "cpu", cpu_ms);
     bus_timing_add(&t, "budget", budget);
     int64_t t_pub = bus_now_mono_us();
@@ -463,7 +471,7 @@ static void step_body(app *a)
         fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f\n", b->seq,
                 st.state, st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
                 st.feature_points_moved, st.max_strain, st.max_pen_mm, st.ms_iterations,
-                st.ms_total, cpu_ms, budget, body_moved(a, b));
+                st.ms_total, cpu_ms, budget, moved);
     a->frames_done++;
     if (a->diverged_run >= SIM_MAIN_DIVERGED_REBUILD) {
         fprintf(stderr,
@@ -502,6 +510,8 @@ static int usage(FILE *f, int rc)
             "          for a body captured over 1 s ago: a log played again)\n"
             "  --deadline MS: capture -> cloth published, for --frame-budget auto (default 45;\n"
             "          0: only the next body's arrival)\n"
+            "  --settle-floor MM: a body whose median vertex moved less than MM since the last\n"
+            "          simulated one gets no settle round nor strain retry (0, default: off)\n"
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
@@ -517,7 +527,7 @@ static int usage(FILE *f, int rc)
     return rc;
 }
 
-/* A duration in ms, 0 .. 1000 (a body frame's budget): 0, or -1 for anything else. */
+/* A value 0 .. 1000 (a body frame's budget in ms, a motion in mm): 0, or -1 for anything else. */
 static int parse_ms(const char *v, float *ms)
 {
     char *end;
@@ -573,6 +583,8 @@ static int parse(app *a, int argc, char **argv)
         else if (!strcmp(o, "--frame-budget") && parse_ms(v, &a->desc.frame_budget_ms) == 0)
             a->budget_auto = 0;
         else if (!strcmp(o, "--deadline") && parse_ms(v, &a->deadline_ms) == 0)
+            ;
+        else if (!strcmp(o, "--settle-floor") && parse_ms(v, &a->settle_floor_mm) == 0)
             ;
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
@@ -652,9 +664,9 @@ int main(int argc, char **argv)
     fprintf(stderr,
             "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %d "
             "refused, %llu BODY messages dropped; %d published settling, %d over their budget "
-            "(--frame-budget %s)\n",
+            "(--frame-budget %s), %d without settle rounds (--settle-floor %g mm)\n",
             a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected,
-            a.settling, a.over_budget, budget_name);
+            a.settling, a.over_budget, budget_name, a.settle_skipped, (double)a.settle_floor_mm);
     int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,

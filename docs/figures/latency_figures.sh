@@ -11,8 +11,9 @@
 #    frames over their budget, settle rounds, the cloth published settling and its strain, CPU ms
 #    a frame (every thread: load does not change it), work and capture -> cloth p95 (load does).
 # 2b. The same bodies, every one (--queue all, 8 fps, no budget): the settle rounds by how far
-#    the body moved since the one before (its median vertex, --stats body_move_mm): what
-#    skipping the rounds of a body that moved less than the fitter's noise would save.
+#    the body moved since the one before (its median vertex, --stats body_move_mm), then with
+#    --settle-floor MM for each MM of LATENCY_FIG_FLOORS ("1.5 2"): the rounds of a body that
+#    moved less than the fitter's noise skipped, and what that does to the strain.
 # 3. One pipeline run (`tryon run --headless --record`, all four stages real): each stage's CPU
 #    ms a frame, and where the frames' time went, stage by stage (`tryon path` on its log).
 # Environment: LATENCY_FIG_FRAMES (150), LATENCY_FIG_BODY_VERTS (6000), LATENCY_FIG_RUNS (2),
@@ -95,21 +96,33 @@ for k in $(seq "$runs"); do
     done
 done
 
-if [ "${LATENCY_FIG_MOTION:-1}" = 1 ]; then
-    echo "== every body (--queue all, 8 fps, --frame-budget 0): settle rounds by the body's motion"
+# every_body FLOOR: every body into tryon-sim --queue all --frame-budget 0 --settle-floor FLOOR
+every_body() {
     bus
     timeout 120 "$(bin tryon-sim)" --backend c --queue all --frame-budget 0 --frames "$bodies" \
-        --stats "$out/all.csv" 2>"$out/all.log" &
-    sim=$!
+        --settle-floor "$1" --stats "$out/all.csv" 2>"$out/all.log" &
+    local sim=$!
     sleep 1
     "$tryon" pace "$fitted/session.lcmlog" --fps 8 >/dev/null
     wait "$sim" || echo "   tryon-sim: $(tail -n 2 "$out/all.log")"
     unset TRYON_LCM_URL TRYON_CHANNEL_PREFIX
+    # 2 state, 3 settle rounds, 8 max strain, 9 max penetration mm, 12 cpu ms
+    awk -F, -v f="$1" 'NR > 1 { n++; s += $3; cpu += $12; st += ($2 == 3); o3 += ($8 > 0.03)
+                                m = $8 > m ? $8 : m; p = $9 > p ? $9 : p }
+        END { printf "   --settle-floor %s mm: settle rounds %.1f a body, cpu %.1f ms a body; published settling %d, over 3 %% strain %d, worst %.2f %%; penetration worst %.2f mm\n",
+              f, s / n, cpu / n, st, o3, 100 * m, p }' "$out/all.csv"
+}
+if [ "${LATENCY_FIG_MOTION:-1}" = 1 ]; then
+    echo "== every body (--queue all, 8 fps, --frame-budget 0): settle rounds by the body's motion"
+    every_body 0
     # 3 settle rounds, 14 body_move_mm (-1: the first body)
     awk -F, 'NR > 1 && $14 >= 0 { m = $14; b = m < 1 ? "0-1" : m < 1.5 ? "1-1.5" : m < 2 ? "1.5-2" : m < 3 ? "2-3" : ">= 3"
              n[b]++; s[b] += $3; any[b] += ($3 > 0); all += $3 }
         END { for (b in n) printf "   moved %-5s mm: %3d bodies, settle rounds %.1f a body (%d with any), %.1f %% of all rounds\n",
               b, n[b], s[b] / n[b], any[b], 100 * s[b] / all }' "$out/all.csv" | sort
+    for f in ${LATENCY_FIG_FLOORS:-1.5 2}; do
+        every_body "$f"
+    done
 fi
 
 [ "${LATENCY_FIG_PIPELINE:-1}" = 1 ] || exit 0

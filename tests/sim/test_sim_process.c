@@ -233,7 +233,8 @@ static void test_sim_process_latest_body_wins(void **state)
 
 /* --stats FILE: a header, then one CSV line of 14 fields per simulated body (as many as CLOTH
  * messages came back), iterations, milliseconds and CPU time positive, the budget (the default,
- * --frame-budget auto) positive. */
+ * --frame-budget auto) positive, the body's motion -1 for the first body; with --settle-floor
+ * 1000 mm every body after the first is counted as still (no settle round). */
 static void test_sim_process_stats_file(void **state)
 {
     (void)state;
@@ -241,7 +242,7 @@ static void test_sim_process_stats_file(void **state)
     const char *path = "test_sim_process_stats.csv"; /* in the test's build folder */
     session_start(&s, "stats",
                   (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", "--stats",
-                             (char *)path, NULL});
+                             (char *)path, "--settle-floor", "1000", NULL});
     for (int k = 0; k < 5; k++) {
         send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
         lcm_handle_timeout(s.lcm, 100);
@@ -271,7 +272,15 @@ static void test_sim_process_stats_file(void **state)
     }
     assert_int_equal(rows, s.n.cloth);
     free(csv);
+    const char *said = strstr(log, " without settle rounds");
+    int still = -1;
+    if (said) {
+        while (said > log && said[-1] >= '0' && said[-1] <= '9')
+            said--;
+        still = atoi(said);
+    }
     free(log);
+    assert_int_equal(still, rows - 1);
 }
 
 /* bodyfit publishes INIT while it estimates the shape: the garment made on such a body is made
