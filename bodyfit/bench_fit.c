@@ -476,7 +476,7 @@ static void usage(FILE *f)
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
             "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
             "(x right, y down, z forward, metres); with several recordings, in DIR/NAME/ each.\n"
-            "Defaults: --points 400 --iterations 6\n"
+            "Defaults: --points 800 --iterations 6\n"
             "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
             "frame's motion carried on; 0: none); --frames: all. --smooth: the published pose's\n"
             "One Euro filter's cut-off at rest (0.5 Hz; 0: no filter), its rise per m/s of\n"
@@ -609,7 +609,7 @@ int main(int argc, char **argv)
            tot.jitter_n ? 1000.0 * sqrt(tot.jitter_sq / tot.jitter_n) : -1.0,
            scored && tot.in_view ? (double)tot.tracked_in_view / tot.in_view : -1.0,
            scored && tot.recover_n ? tot.recover_max : -1, d.out_vertices ? d.out_vertices : 6000,
-           d.iterations ? d.iterations : 6, d.points ? d.points : 400,
+           d.iterations ? d.iterations : 6, d.points ? d.points : FIT_TRACK_POINTS,
            d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
            scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
            tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices);

@@ -170,7 +170,7 @@ static void usage(FILE *f)
                "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
                "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
                "exit after N bodies. --vertices: the published mesh (6000); --fit-vertices: the\n"
-               "coarse mesh fitted (1500); --points: data points per frame (400); --iterations:\n"
+               "coarse mesh fitted (1500); --points: data points per frame (800); --iterations:\n"
                "Gauss-Newton iterations per frame (6); --smooth: the published pose's One Euro\n"
                "filter (on).\n"
                "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
