@@ -18,7 +18,7 @@
 #define JITTER_FRAMES     "24"
 #define JITTER_MAX_MM     1.8 /* the goal is 2 mm: a margin for noise of another seed */
 #define JITTER_SHAPES     3
-#define JITTER_TIMEOUT_MS 300000
+#define JITTER_TIMEOUT_MS 600000
 
 static char dir[256];
 static char recs[JITTER_SHAPES][320];
