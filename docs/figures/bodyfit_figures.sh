@@ -5,7 +5,7 @@
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
 #        fails tradeoffs smooth cloth pipeline shape alternate; all by default; a section left
 #        out keeps its data from an earlier run; alternate builds FIT_BASE_COMMIT, default
-#        928233b, the build before the shape's degrees of freedom, in BUILD_DIR/fit-base)
+#        9271c41, the build before the still jitter round (400 points), in BUILD_DIR/fit-base)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
@@ -68,7 +68,7 @@ if want alternate; then
   base=$B/fit-base
   if [ ! -x "$base/build/bodyfit/tryon-bench-fit" ]; then
     rm -rf "$base" && mkdir -p "$base"
-    git -C "$FIG/../.." archive "${FIT_BASE_COMMIT:-928233b}" | tar -x -C "$base"
+    git -C "$FIG/../.." archive "${FIT_BASE_COMMIT:-9271c41}" | tar -x -C "$base"
     cmake -S "$base" -B "$base/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
     cmake --build "$base/build" -j2 --target tryon-bench-fit >/dev/null
   fi
