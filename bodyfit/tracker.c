@@ -327,9 +327,10 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
 
 /* A person's first frame: the shape and the pose fitted in turns, so that the shape moves the
  * published joints on this frame rather than over the next ones (jitter standing still). */
-/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87; 8 with the running mean after
- * (track_shape_update) and 800 points: 1.30 / 1.48 / 1.25 (4: 1.19 / 1.54 / 1.47 with 800
- * points and half steps). Costs the first frame of a person about 8 frames' fit. */
+/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
+ * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
+ * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these).
+ * Costs the first frame of a person about 8 frames' fit. */
 #define TRACK_SHAPE_FIRST_ROUNDS 8
 static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st)
 {
