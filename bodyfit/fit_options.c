@@ -45,8 +45,9 @@ static int parse_smooth(const char *v, float *hz)
 int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *bad)
 {
     static const char *const names[] = {
-        "--points",   "--iterations", "--fit-vertices", "--out-vertices",     "--vertices",
-        "--temporal", "--predict",    "--smooth",       "--smooth-beta-root", "--smooth-beta-rot"};
+        "--points",           "--iterations",      "--fit-vertices",   "--out-vertices",
+        "--vertices",         "--temporal",        "--predict",        "--smooth",
+        "--smooth-beta-root", "--smooth-beta-rot", "--smooth-speed-hz"};
     int known = 0;
     for (size_t k = 0; k < sizeof names / sizeof names[0] && !known; ++k)
         known = !strcmp(a, names[k]);
@@ -72,8 +73,10 @@ int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *b
         *bad = parse_smooth(v, &d->smooth_hz) != 0;
     else if (!strcmp(a, "--smooth-beta-root"))
         *bad = fit_parse_float(v, 1e-6f, 1e4f, &d->smooth_beta_root) != 0;
-    else
+    else if (!strcmp(a, "--smooth-beta-rot"))
         *bad = fit_parse_float(v, 1e-6f, 1e4f, &d->smooth_beta_rot) != 0;
+    else
+        *bad = fit_parse_float(v, 0.01f, 100.0f, &d->smooth_speed_hz) != 0;
     return 1;
 }
 
@@ -82,7 +85,7 @@ void fit_tracker_options_usage(FILE *f, int indent)
     fprintf(f,
             "%*s[--points N] [--iterations N] [--fit-vertices N] [--out-vertices N]\n"
             "%*s[--temporal W] [--predict G] [--smooth on|off|HZ] [--smooth-beta-root B]\n"
-            "%*s[--smooth-beta-rot B]\n",
+            "%*s[--smooth-beta-rot B] [--smooth-speed-hz HZ]\n",
             indent, "", indent, "", indent, "");
 }
 
@@ -97,6 +100,6 @@ void fit_tracker_options_help(FILE *f)
             "or its cut-off at rest in Hz (0.5; 0: off); --smooth-beta-root: its rise per m/s\n"
             "of the root, the root's and every joint's (16); --smooth-beta-rot: its rise per\n"
             "m/s of a joint's reach, its rad/s times the distance to the farthest joint below\n"
-            "it (3).\n",
+            "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5).\n",
             FIT_TRACK_POINTS);
 }

@@ -8,11 +8,12 @@
 #include "bodyfit.h"
 
 typedef struct fit_smooth_desc {
-    float min_cutoff_hz; /* cut-off at rest; 0 = the default (FIT_SMOOTH_MIN_CUTOFF_HZ) */
-    float beta_root;     /* cut-off rise per m/s of the root, Hz s/m, for the root and every
-                            joint; 0 = the default */
-    float beta_rot;      /* cut-off rise per m/s of a joint (rad/s times its lever), Hz s/m */
-    float frame_s;       /* time between frames, s; 0 = 1/30 */
+    float min_cutoff_hz;   /* cut-off at rest; 0 = the default (FIT_SMOOTH_MIN_CUTOFF_HZ) */
+    float beta_root;       /* cut-off rise per m/s of the root, Hz s/m, for the root and every
+                              joint; 0 = the default */
+    float beta_rot;        /* cut-off rise per m/s of a joint (rad/s times its lever), Hz s/m */
+    float frame_s;         /* time between frames, s; 0 = 1/30 */
+    float speed_cutoff_hz; /* the speed estimate's own cut-off; 0 = FIT_SMOOTH_SPEED_CUTOFF_HZ */
 } fit_smooth_desc;
 
 #define FIT_SMOOTH_MIN_CUTOFF_HZ 0.5f

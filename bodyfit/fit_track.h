@@ -114,8 +114,9 @@ typedef struct fit_tracker_desc {
     float smooth_hz;     /* 0 = the default: the published pose's One Euro filter's cut-off at
                             rest (fit_smooth.h); < 0 = no filter */
     float smooth_beta_root, smooth_beta_rot; /* 0 = the defaults (fit_smooth.h) */
-    int fixed_shape;                         /* 1 = use shape as given, never estimate it */
-    fit_shape shape; /* the starting (or fixed) shape; zero height = the average preset */
+    float smooth_speed_hz; /* the filter's speed estimate's cut-off; 0 = the default */
+    int fixed_shape;       /* 1 = use shape as given, never estimate it */
+    fit_shape shape;       /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;
 
 typedef struct fit_result {

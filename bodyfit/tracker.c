@@ -157,7 +157,8 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
     fit_smooth_desc sd = {.min_cutoff_hz = x->smooth_hz,
                           .beta_root = x->smooth_beta_root,
-                          .beta_rot = x->smooth_beta_rot};
+                          .beta_rot = x->smooth_beta_rot,
+                          .speed_cutoff_hz = x->smooth_speed_hz};
     fit_smoother_init(&t->smooth, &sd);
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);

@@ -34,6 +34,8 @@ static void test_options_parsed(void **state)
     assert_float_equal(d.smooth_beta_rot, 6.0f, 0.0f);
     assert_int_equal(fit_tracker_option("--smooth-beta-root", "24", &d, &bad), 1);
     assert_float_equal(d.smooth_beta_root, 24.0f, 0.0f);
+    assert_int_equal(fit_tracker_option("--smooth-speed-hz", "0.7", &d, &bad), 1);
+    assert_float_equal(d.smooth_speed_hz, 0.7f, 0.0f);
     assert_int_equal(bad, 0);
 }
 
@@ -59,11 +61,18 @@ static void test_bad_values_and_other_options(void **state)
 {
     (void)state;
     fit_tracker_desc d = {0};
-    const char *bad_pairs[][2] = {
-        {"--points", "10"},         {"--points", "8x"},           {"--points", ""},
-        {"--iterations", "0"},      {"--vertices", "999"},        {"--fit-vertices", "70000"},
-        {"--temporal", "0"},        {"--predict", "3"},           {"--smooth", "-1"},
-        {"--smooth-beta-rot", "0"}, {"--smooth-beta-root", "nan"}};
+    const char *bad_pairs[][2] = {{"--points", "10"},
+                                  {"--points", "8x"},
+                                  {"--points", ""},
+                                  {"--iterations", "0"},
+                                  {"--vertices", "999"},
+                                  {"--fit-vertices", "70000"},
+                                  {"--temporal", "0"},
+                                  {"--predict", "3"},
+                                  {"--smooth", "-1"},
+                                  {"--smooth-beta-rot", "0"},
+                                  {"--smooth-beta-root", "nan"},
+                                  {"--smooth-speed-hz", "0"}};
     for (size_t k = 0; k < sizeof bad_pairs / sizeof bad_pairs[0]; ++k) {
         int bad = 0;
         assert_int_equal(fit_tracker_option(bad_pairs[k][0], bad_pairs[k][1], &d, &bad), 1);
