@@ -2,13 +2,13 @@
  * raw-to-millimetre table tryon-capture uses), fits every frame with the tracker tryon-bodyfit
  * runs, and scores it against tryon-synth's ground truth where there is one. A table per
  * recording, then one JSON line (docs/bodyfit.md). */
+#include "fit_options.h"
 #include "fit_track.h"
 #include "recordings.h"
 #ifdef BENCH_FIT_CLOTH
 #include "bench_cloth.h"
 #endif
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -442,55 +442,28 @@ done:
     return rc;
 }
 
-static int parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || !*s || *end || v < lo || v > hi)
-        return -1;
-    *out = (int)v;
-    return 0;
-}
-
-static int parse_float(const char *s, float lo, float hi, float *out)
-{
-    char *end;
-    float v = strtof(s, &end);
-    if (!*s || *end || !(v >= lo && v <= hi))
-        return -1;
-    *out = v;
-    return 0;
-}
-
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: tryon-bench-fit [--out DIR] [--points N] [--iterations N] [--fit-vertices N]\n"
-            "                       [--out-vertices N] [--frames N] [--temporal W] [--predict G]\n"
-            "                       [--smooth HZ] [--smooth-beta-root B] [--smooth-beta-rot B]\n"
-            "                       [--cloth-vertices N] [--scores FILE] [--true-shape]\n"
-            "                       [--true-shape-except K] RECORDING...\n"
+            "usage: tryon-bench-fit [--out DIR] [--frames N] [--cloth-vertices N] [--scores FILE]\n"
+            "                       [--true-shape] [--true-shape-except K]\n");
+    fit_tracker_options_usage(f, 23);
+    fprintf(f,
+            "                       RECORDING...\n"
             "Fits every frame of each fakenect dump (tryon-synth recordings are scored against\n"
             "their ground truth; others are fitted and timed, their error fields -1). Prints a\n"
             "table per recording, then one JSON line. --out DIR: each frame's mesh as\n"
             "DIR/fit_%%05d.obj and its joints in DIR/joints.jsonl, in depth camera coordinates\n"
             "(x right, y down, z forward, metres); with several recordings, in DIR/NAME/ each.\n"
-            "Defaults: --points 400 --iterations 6\n"
-            "--fit-vertices 1500 --out-vertices 6000 --temporal 2e-4 --predict 1 (the last\n"
-            "frame's motion carried on; 0: none); --frames: all. --smooth: the published pose's\n"
-            "One Euro filter's cut-off at rest (0.5 Hz; 0: no filter), its rise per m/s of\n"
-            "the root (--smooth-beta-root 16, the root's and every joint's) and per m/s of a\n"
-            "joint's reach (its rad/s times the distance to the farthest joint below it;\n"
-            "--smooth-beta-rot 3).\n"
-            "--cloth-vertices: the shirt dressed on the fitted and on the true body for\n"
-            "cloth_vs_truth_mm, N vertices (0, the default: not dressed, the field -1; the two\n"
-            "sims take about 60 ms of CPU a frame with 600). --scores FILE: one line per scored\n"
-            "frame, 'recording frame state doubt surface_mm joints_mm explained free_space\n"
-            "residual_mm unexplained_cluster'. --true-shape: fit with\n"
-            "the recording's true shape, held (the pose's share of the error, a diagnosis);\n"
-            "--true-shape-except K: the same with parameter K (0..8, fit_shape order) the\n"
-            "average preset's (what that parameter's error costs).\n");
+            "--frames: the first N of each recording (all). --cloth-vertices: the shirt dressed\n"
+            "on the fitted and on the true body for cloth_vs_truth_mm, N vertices (0, the\n"
+            "default: not dressed, the field -1; the two sims take about 60 ms of CPU a frame\n"
+            "with 600). --scores FILE: one line per scored frame, 'recording frame state doubt\n"
+            "surface_mm joints_mm explained free_space residual_mm unexplained_cluster'.\n"
+            "--true-shape: fit with the recording's true shape, held (the pose's share of the\n"
+            "error, a diagnosis); --true-shape-except K: the same with parameter K (0..8,\n"
+            "fit_shape order) the average preset's (what that parameter's error costs).\n");
+    fit_tracker_options_help(f);
 }
 
 static int parse_args(int argc, char **argv, bench_opts *o, int *first)
@@ -505,12 +478,10 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
         } else if (!strcmp(a, "--true-shape")) {
             o->true_shape = 1;
             continue;
-        } else if (strcmp(a, "--out") && strcmp(a, "--points") && strcmp(a, "--iterations") &&
-                   strcmp(a, "--fit-vertices") && strcmp(a, "--out-vertices") &&
-                   strcmp(a, "--frames") && strcmp(a, "--temporal") && strcmp(a, "--predict") &&
-                   strcmp(a, "--smooth") && strcmp(a, "--smooth-beta-root") &&
-                   strcmp(a, "--smooth-beta-rot") && strcmp(a, "--cloth-vertices") &&
-                   strcmp(a, "--scores") && strcmp(a, "--true-shape-except")) {
+        } else if (fit_tracker_option(a, v, &o->td, &bad))
+            ;
+        else if (strcmp(a, "--out") && strcmp(a, "--frames") && strcmp(a, "--cloth-vertices") &&
+                 strcmp(a, "--scores") && strcmp(a, "--true-shape-except")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -518,45 +489,15 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = 1;
         else if (!strcmp(a, "--out"))
             o->out_dir = v;
-        else if (!strcmp(a, "--points"))
-            bad = parse_int(v, 20, 100000, &o->td.points);
-        else if (!strcmp(a, "--iterations"))
-            bad = parse_int(v, 1, 200, &o->td.iterations);
-        else if (!strcmp(a, "--fit-vertices"))
-            bad = parse_int(v, 1000, 60000, &o->td.fit_vertices);
-        else if (!strcmp(a, "--out-vertices"))
-            bad = parse_int(v, 1000, 60000, &o->td.out_vertices);
-        else if (!strcmp(a, "--temporal")) {
-            char *end;
-            o->td.temporal = strtof(v, &end);
-            bad = *end || !(o->td.temporal > 0.0f && o->td.temporal < 1e3f);
-        } else if (!strcmp(a, "--predict")) {
-            char *end;
-            o->td.predict = strtof(v, &end);
-            bad = *end || !(o->td.predict >= 0.0f && o->td.predict <= 2.0f);
-            if (o->td.predict == 0.0f)
-                o->td.predict = -1.0f; /* none */
-        } else if (!strcmp(a, "--smooth")) {
-            bad = parse_float(v, 0.0f, 100.0f, &o->td.smooth_hz);
-            if (!bad && o->td.smooth_hz == 0.0f)
-                o->td.smooth_hz = -1.0f; /* no filter */
-        } else if (!strcmp(a, "--smooth-beta-root"))
-            bad = parse_float(v, 1e-6f, 1e4f, &o->td.smooth_beta_root);
-        else if (!strcmp(a, "--smooth-beta-rot"))
-            bad = parse_float(v, 1e-6f, 1e4f, &o->td.smooth_beta_rot);
         else if (!strcmp(a, "--frames"))
-            bad = parse_int(v, 1, 1000000, &o->max_frames);
+            bad = fit_parse_int(v, 1, 1000000, &o->max_frames) != 0;
         else if (!strcmp(a, "--cloth-vertices"))
-            bad = parse_int(v, 0, 100000, &o->cloth_vertices);
+            bad = fit_parse_int(v, 0, 100000, &o->cloth_vertices) != 0;
         else if (!strcmp(a, "--scores"))
             o->scores_path = v;
-        else if (!strcmp(a, "--true-shape-except")) {
-            bad = parse_int(v, 0, FIT_SHAPE_PARAMS - 1, &o->true_except);
+        else {
+            bad = fit_parse_int(v, 0, FIT_SHAPE_PARAMS - 1, &o->true_except) != 0;
             o->true_shape = 1;
-        } else {
-            fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
-            usage(stderr);
-            return -1;
         }
         if (bad) {
             fprintf(stderr, "tryon-bench-fit: %s needs a value in range, got '%s'\n", a,
@@ -609,7 +550,7 @@ int main(int argc, char **argv)
            tot.jitter_n ? 1000.0 * sqrt(tot.jitter_sq / tot.jitter_n) : -1.0,
            scored && tot.in_view ? (double)tot.tracked_in_view / tot.in_view : -1.0,
            scored && tot.recover_n ? tot.recover_max : -1, d.out_vertices ? d.out_vertices : 6000,
-           d.iterations ? d.iterations : 6, d.points ? d.points : 400,
+           d.iterations ? d.iterations : 6, d.points ? d.points : FIT_TRACK_POINTS,
            d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
            scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
            tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices);

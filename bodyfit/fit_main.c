@@ -4,9 +4,9 @@
  * stderr naming the frame and the reason, a BODY in state lost with no vertices, and the
  * process goes on. */
 #include "bus.h"
+#include "fit_options.h"
 #include "fit_track.h"
 
-#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -150,30 +150,16 @@ static void fit_pending(fitp *p)
         stop = 1;
 }
 
-static int parse_count(const char *s, int lo, int hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || !*s || *end || v < lo || v > hi)
-        return -1;
-    *out = (int)v;
-    return 0;
-}
-
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: tryon-bodyfit [--frames N] [--vertices N] [--fit-vertices N] [--points N]\n"
-               "                     [--iterations N] [--triangles-every N] [--queue latest|all]\n"
-               "                     [--smooth on|off]\n"
-               "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
+    fprintf(f, "usage: tryon-bodyfit [--frames N] [--triangles-every N] [--queue latest|all]\n");
+    fit_tracker_options_usage(f, 21);
+    fprintf(f, "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
                "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
                "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
-               "exit after N bodies. --vertices: the published mesh (6000); --fit-vertices: the\n"
-               "coarse mesh fitted (1500); --points: data points per frame (400); --iterations:\n"
-               "Gauss-Newton iterations per frame (6); --smooth: the published pose's One Euro\n"
-               "filter (on).\n"
-               "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
+               "exit after N bodies. --triangles-every: the triangles with every Nth body (30).\n");
+    fit_tracker_options_help(f);
+    fprintf(f, "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
 }
 
 static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
@@ -184,38 +170,21 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             exit(0);
-        } else if (strcmp(a, "--frames") && strcmp(a, "--vertices") &&
-                   strcmp(a, "--fit-vertices") && strcmp(a, "--points") &&
-                   strcmp(a, "--iterations") && strcmp(a, "--triangles-every") &&
-                   strcmp(a, "--queue") && strcmp(a, "--smooth")) {
+        } else if (fit_tracker_option(a, v, d, &bad))
+            ;
+        else if (strcmp(a, "--frames") && strcmp(a, "--triangles-every") && strcmp(a, "--queue")) {
             fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
             usage(stderr);
             return -1;
         } else if (!v)
             bad = 1;
         else if (!strcmp(a, "--frames"))
-            bad = parse_count(v, 1, 1000000000, &p->max_frames);
-        else if (!strcmp(a, "--vertices"))
-            bad = parse_count(v, 1000, 60000, &d->out_vertices);
-        else if (!strcmp(a, "--fit-vertices"))
-            bad = parse_count(v, 1000, 60000, &d->fit_vertices);
-        else if (!strcmp(a, "--points"))
-            bad = parse_count(v, 20, 100000, &d->points);
-        else if (!strcmp(a, "--iterations"))
-            bad = parse_count(v, 1, 200, &d->iterations);
+            bad = fit_parse_int(v, 1, 1000000000, &p->max_frames) != 0;
         else if (!strcmp(a, "--queue")) {
             bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0;
             p->queue_all = !strcmp(v, "all");
-        } else if (!strcmp(a, "--smooth")) {
-            bad = strcmp(v, "on") != 0 && strcmp(v, "off") != 0;
-            d->smooth_hz = !strcmp(v, "off") ? -1.0f : 0.0f;
-        } else if (!strcmp(a, "--triangles-every"))
-            bad = parse_count(v, 1, 1000000, &p->triangles_every);
-        else {
-            fprintf(stderr, "tryon-bodyfit: unknown option %s\n", a);
-            usage(stderr);
-            return -1;
-        }
+        } else
+            bad = fit_parse_int(v, 1, 1000000, &p->triangles_every) != 0;
         if (bad) {
             fprintf(stderr, "tryon-bodyfit: %s needs a value in range, got '%s'\n", a,
                     v ? v : "(nothing)");

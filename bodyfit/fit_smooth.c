@@ -25,6 +25,8 @@ void fit_smoother_init(fit_smoother *s, const fit_smooth_desc *d)
     x->beta_root = x->beta_root > 0.0f ? x->beta_root : FIT_SMOOTH_BETA_ROOT;
     x->beta_rot = x->beta_rot > 0.0f ? x->beta_rot : FIT_SMOOTH_BETA_ROT;
     x->frame_s = x->frame_s > 0.0f ? x->frame_s : 1.0f / 30.0f;
+    x->speed_cutoff_hz =
+        x->speed_cutoff_hz > 0.0f ? x->speed_cutoff_hz : FIT_SMOOTH_SPEED_CUTOFF_HZ;
     for (int j = 0; j < FIT_JOINT_COUNT; ++j)
         s->lever_m[j] = 1.0f;
 }
@@ -44,7 +46,7 @@ void fit_smoother_reset(fit_smoother *s)
 static void smooth_vec3(const fit_smooth_desc *d, float beta, float extra_hz, const float in[3],
                         float x[3], float v[3])
 {
-    float dt = d->frame_s, ad = smooth_alpha(FIT_SMOOTH_SPEED_CUTOFF_HZ, dt), speed2 = 0.0f;
+    float dt = d->frame_s, ad = smooth_alpha(d->speed_cutoff_hz, dt), speed2 = 0.0f;
     for (int k = 0; k < 3; ++k) {
         v[k] += ad * ((in[k] - x[k]) / dt - v[k]);
         speed2 += v[k] * v[k];

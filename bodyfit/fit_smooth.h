@@ -8,11 +8,12 @@
 #include "bodyfit.h"
 
 typedef struct fit_smooth_desc {
-    float min_cutoff_hz; /* cut-off at rest; 0 = the default (FIT_SMOOTH_MIN_CUTOFF_HZ) */
-    float beta_root;     /* cut-off rise per m/s of the root, Hz s/m, for the root and every
-                            joint; 0 = the default */
-    float beta_rot;      /* cut-off rise per m/s of a joint (rad/s times its lever), Hz s/m */
-    float frame_s;       /* time between frames, s; 0 = 1/30 */
+    float min_cutoff_hz;   /* cut-off at rest; 0 = the default (FIT_SMOOTH_MIN_CUTOFF_HZ) */
+    float beta_root;       /* cut-off rise per m/s of the root, Hz s/m, for the root and every
+                              joint; 0 = the default */
+    float beta_rot;        /* cut-off rise per m/s of a joint (rad/s times its lever), Hz s/m */
+    float frame_s;         /* time between frames, s; 0 = 1/30 */
+    float speed_cutoff_hz; /* the speed estimate's own cut-off; 0 = FIT_SMOOTH_SPEED_CUTOFF_HZ */
 } fit_smooth_desc;
 
 #define FIT_SMOOTH_MIN_CUTOFF_HZ 0.5f
@@ -22,10 +23,13 @@ typedef struct fit_smooth_desc {
 #define FIT_SMOOTH_BETA_ROT  3.0f
 /* The speed estimate's own cut-off (the paper's d_cutoff). Standing still, the fit's noise has
  * an apparent speed too, and that speed, not the resting cut-off, sets what is left of the
- * noise (beta_rot 3 -> 0.5: still jitter 2.05 -> 1.06 mm; 0.5 -> 0.25 Hz at rest: no change):
- * 0.7 Hz in place of the paper's 1 takes 15 % of that apparent speed off, for 70 ms more lag
- * when a motion starts (docs/bodyfit.md, jitter). */
-#define FIT_SMOOTH_SPEED_CUTOFF_HZ 0.7f
+ * noise (beta_rot 3 -> 0.5: still jitter 2.05 -> 1.06 mm; 0.5 -> 0.25 Hz at rest: no change).
+ * 0.7 Hz was chosen on the noisier fit of 400 points; on 800 the noise's apparent speed is
+ * lower, and 1.5 Hz sees a motion start sooner: the published joints trailed the fit by up to
+ * 8 cm on the walk and 14 cm on the fast swing, the bad frames published tracking
+ * (docs/bodyfit.md, jitter; 0.7 / 1.0 / 1.5 Hz: still jitter at most 1.27 / 1.37 / 1.48 mm,
+ * walk joints 12.6 / 11.6 / 10.7 mm). */
+#define FIT_SMOOTH_SPEED_CUTOFF_HZ 1.5f
 
 typedef struct fit_smoother {
     fit_smooth_desc d;

@@ -163,12 +163,21 @@ static int grid_nearest(const fit_solver *s, const grid *g, const float *p, floa
  * (JtJ upper triangle, Jtr). */
 static void add_row(const fit_vjac *vj, const float g[3], float r, double w, double *A, double *b)
 {
-    int idx[3 + 3 * FIT_JOINT_COUNT];
+    int idx[3 + 3 * FIT_JOINT_COUNT], order[FIT_JOINT_COUNT];
     double val[3 + 3 * FIT_JOINT_COUNT];
+    /* The joints in ascending order (insertion sort of a handful), so that the upper triangle
+     * is the pairs i <= j: no test per pair (half the cost of the fit's points). */
+    for (int e = 0; e < vj->n; ++e) {
+        int k = e;
+        for (; k > 0 && vj->joint[order[k - 1]] > vj->joint[e]; --k)
+            order[k] = order[k - 1];
+        order[k] = e;
+    }
     int n = 0;
     for (int k = 0; k < 3; ++k)
         idx[n] = k, val[n++] = g[k];
-    for (int e = 0; e < vj->n; ++e) {
+    for (int o = 0; o < vj->n; ++o) {
+        int e = order[o];
         const float *bb = vj->b[e];
         /* g . (delta x b) = delta . (b x g) */
         float c[3] = {bb[1] * g[2] - bb[2] * g[1], bb[2] * g[0] - bb[0] * g[2],
@@ -178,10 +187,10 @@ static void add_row(const fit_vjac *vj, const float g[3], float r, double w, dou
     }
     for (int i = 0; i < n; ++i) {
         double wv = w * val[i];
+        double *row = A + idx[i] * NP;
         b[idx[i]] += wv * r;
-        for (int j = 0; j < n; ++j)
-            if (idx[j] >= idx[i])
-                A[idx[i] * NP + idx[j]] += wv * val[j];
+        for (int j = i; j < n; ++j)
+            row[idx[j]] += wv * val[j];
     }
 }
 

@@ -97,11 +97,15 @@ enum {
 /* The causes' names, space-separated ("UNEXPLAINED LIMITS"), into buf. */
 void fit_doubt_names(unsigned doubt, char *buf, size_t len);
 
+/* Data points fitted per frame: 800 halved the still jitter of 400 (the depth noise averaged
+ * over twice the points a limb gets) for about 1 ms of CPU a frame (docs/bodyfit.md, jitter). */
+#define FIT_TRACK_POINTS 800
+
 typedef struct fit_tracker_desc {
     fit_segment_desc segment;
     int out_vertices;    /* 0 = 6000: the mesh published */
     int fit_vertices;    /* 0 = 1500: the coarse mesh fitted */
-    int points;          /* 0 = 400: data points per frame */
+    int points;          /* 0 = FIT_TRACK_POINTS: data points per frame */
     int iterations;      /* 0 = 6: Gauss-Newton iterations per tracked frame */
     int init_iterations; /* 0 = 40: from the rest pose when someone enters */
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
@@ -110,8 +114,9 @@ typedef struct fit_tracker_desc {
     float smooth_hz;     /* 0 = the default: the published pose's One Euro filter's cut-off at
                             rest (fit_smooth.h); < 0 = no filter */
     float smooth_beta_root, smooth_beta_rot; /* 0 = the defaults (fit_smooth.h) */
-    int fixed_shape;                         /* 1 = use shape as given, never estimate it */
-    fit_shape shape; /* the starting (or fixed) shape; zero height = the average preset */
+    float smooth_speed_hz; /* the filter's speed estimate's cut-off; 0 = the default */
+    int fixed_shape;       /* 1 = use shape as given, never estimate it */
+    fit_shape shape;       /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;
 
 typedef struct fit_result {

@@ -41,8 +41,8 @@
 #define TRACK_DOUBT_FREE_SPACE 0.15f
 #define TRACK_DOUBT_CLAMPED    4 /* more pose parameters held at their joint limits */
 #define TRACK_SOUND_FRAMES     3
-/* Unexplained points this close to each other are one cluster (the ~400 points lie about
- * 4-5 cm apart on a person at 2.5 m). */
+/* Unexplained points this close to each other are one cluster (the ~800 points lie about
+ * 3-3.5 cm apart on a person at 2.5 m). */
 #define TRACK_CLUSTER_RADIUS_M 0.06f
 /* This many of them together: a limb left behind (headline set, frames published tracking:
  * 9 of the 17 bad ones have 3 or more, 4 of the 507 good ones). */
@@ -149,7 +149,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     fit_tracker_desc *x = &t->d;
     x->out_vertices = x->out_vertices ? x->out_vertices : 6000;
     x->fit_vertices = x->fit_vertices ? x->fit_vertices : 1500;
-    x->points = x->points > 0 ? x->points : 400;
+    x->points = x->points > 0 ? x->points : FIT_TRACK_POINTS;
     x->iterations = x->iterations > 0 ? x->iterations : 6;
     x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
@@ -157,7 +157,8 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
     fit_smooth_desc sd = {.min_cutoff_hz = x->smooth_hz,
                           .beta_root = x->smooth_beta_root,
-                          .beta_rot = x->smooth_beta_rot};
+                          .beta_rot = x->smooth_beta_rot,
+                          .speed_cutoff_hz = x->smooth_speed_hz};
     fit_smoother_init(&t->smooth, &sd);
     fit_shape s0 = x->shape.height > 0.0f ? x->shape : fit_shape_default();
     t->seg = fit_segmenter_create(&x->segment, err, errlen);
@@ -257,7 +258,7 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
  * frame on the pose fit's correspondences, fast over the first frames and slowly after (a
  * person does not change shape between frames). The mesh keeps its topology
  * (fit_shape_adapt.c, fit_shape_step.c). */
-#define TRACK_SHAPE_GAIN_INIT  0.5f
+#define TRACK_SHAPE_GAIN_INIT  0.5f  /* each of the first frame's turns */
 #define TRACK_SHAPE_GAIN_AFTER 0.02f /* per frame, applied every TRACK_SHAPE_EVERY frames */
 /* After the first frames the shape is refined every 8th frame only, with 8 frames' gain: the
  * same rate, at an eighth of the cost (the step re-poses the coarse mesh 8 times; +0.6-1.3 ms
@@ -313,7 +314,13 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
     int init = t->shape_learnt < t->d.shape_frames;
     if (!init && (t->shape_learnt - t->d.shape_frames) % TRACK_SHAPE_EVERY)
         return;
-    float gain = init ? TRACK_SHAPE_GAIN_INIT : TRACK_SHAPE_EVERY * TRACK_SHAPE_GAIN_AFTER;
+    /* Over the first frames after the first, a running mean of the frames' own estimates, the
+     * first frame (fitted in turns to convergence) counting twice: half of each frame's step
+     * passed half of that frame's noise to the joints (the arm length moved 1-1.5 % a frame,
+     * 5-8 mm at the wrist, standing still; docs/bodyfit.md, jitter). */
+    float gain =
+        !init ? TRACK_SHAPE_EVERY * TRACK_SHAPE_GAIN_AFTER
+              : (t->shape_learnt ? 1.0f / (float)(t->shape_learnt + 2) : TRACK_SHAPE_GAIN_INIT);
     if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
                        &t->q) == 0)
         track_shape_apply(t);
@@ -321,8 +328,11 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
 
 /* A person's first frame: the shape and the pose fitted in turns, so that the shape moves the
  * published joints on this frame rather than over the next ones (jitter standing still). */
-#define TRACK_SHAPE_FIRST_ROUNDS                                                                   \
-    4 /* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 */
+/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
+ * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
+ * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these).
+ * Costs the first frame of a person about 8 frames' fit. */
+#define TRACK_SHAPE_FIRST_ROUNDS 8
 static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st)
 {
     int rc = 0;

@@ -3,15 +3,15 @@
 # runs tryon-bench-fit over them, keeps each final JSON line in $OUT/*.jsonl and the tables in
 # $OUT/*.txt, and draws docs/figures/bodyfit_*.png with gnuplot.
 # usage: docs/figures/bodyfit_figures.sh BUILD_DIR [SECTION...]   (sections: headline sweep
-#        fails tradeoffs smooth cloth pipeline shape alternate; all by default; a section left
+#        fails tradeoffs smooth cloth pipeline shape alternate jitter; all by default; a section left
 #        out keeps its data from an earlier run; alternate builds FIT_BASE_COMMIT, default
-#        928233b, the build before the shape's degrees of freedom, in BUILD_DIR/fit-base)
+#        9271c41, the build before the still jitter round (400 points), in BUILD_DIR/fit-base)
 # Recordings go to $TRYON_FIT_RECORDINGS (default BUILD_DIR/fit-recordings): about 600 KiB a
 # frame, 0.6 GB for the whole set.
 set -eu
 B=${1:-build}
 [ $# -gt 0 ] && shift
-SECTIONS=${*:-headline sweep fails tradeoffs smooth cloth pipeline shape alternate}
+SECTIONS=${*:-headline sweep fails tradeoffs smooth cloth pipeline shape alternate jitter}
 want() { case " $SECTIONS " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 BENCH=$B/bodyfit/tryon-bench-fit
 SYNTH=$B/recordings/tryon-synth
@@ -64,24 +64,53 @@ fi
 
 # 1c. speed against an earlier build on the same recordings, alternated three times (a busy
 #     machine's load changes within minutes; the errors are deterministic, the times are not)
-if want alternate; then
+base_bench() { # the bench of FIT_BASE_COMMIT, built once in $B/fit-base
   base=$B/fit-base
   if [ ! -x "$base/build/bodyfit/tryon-bench-fit" ]; then
     rm -rf "$base" && mkdir -p "$base"
-    git -C "$FIG/../.." archive "${FIT_BASE_COMMIT:-928233b}" | tar -x -C "$base"
+    git -C "$FIG/../.." archive "${FIT_BASE_COMMIT:-9271c41}" | tar -x -C "$base"
     cmake -S "$base" -B "$base/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
     cmake --build "$base/build" -j2 --target tryon-bench-fit >/dev/null
   fi
+  echo "$base/build/bodyfit/tryon-bench-fit"
+}
+if want alternate; then
+  base_bench=$(base_bench)
   set --
   for m in still arm_raise turn walk fast_swing occlusion; do
     for s in 0 1 2; do set -- "$@" "$(rec $m $s)"; done
   done
   : > "$OUT/alternate.txt"
   for i in 1 2 3; do
-    for b in "$base/build/bodyfit/tryon-bench-fit" "$BENCH"; do
+    for b in "$base_bench" "$BENCH"; do
       echo "$b load $(cut -d' ' -f1 /proc/loadavg) $("$b" "$@" | tail -n 1)" >> "$OUT/alternate.txt"
     done
   done
+fi
+
+# 1d. the still jitter and the filter's lag (docs/bodyfit-history.md, 2026-11-25): still on
+#     three shapes, the walk, the fast swing on three shapes; the build before (400 points, the
+#     shape's half steps, the speed estimate at 0.7 Hz), then today's with one setting changed;
+#     per recording "name:joints_mm/jitter_mm/bad_as_tracking"
+if want jitter; then
+  JIT_RECS="$(rec still 0) $(rec still 1) $(rec still 2) $(rec walk 0) $(rec fast_swing 0)
+            $(rec fast_swing 1) $(rec fast_swing 2)"
+  : > "$OUT/jitter.txt"
+  row() { # LABEL BENCH ARGS...: one line
+    label=$1 bench=$2 && shift 2
+    # shellcheck disable=SC2086 # the recordings are words
+    "$bench" "$@" $JIT_RECS 2>/dev/null | awk -v a="$label" \
+      '/_45 / { n = $1; sub(/_45$/, "", n); r = r sprintf(" %s:%s/%s/%s", n, $8, $9, $14) }
+       END { print a ":" r }' >> "$OUT/jitter.txt"
+  }
+  row "before (9271c41)" "$(base_bench)"
+  row "400 points" "$BENCH" --points 400
+  row "speed 0.7 Hz" "$BENCH" --smooth-speed-hz 0.7
+  row "speed 1.0 Hz" "$BENCH" --smooth-speed-hz 1.0
+  row "defaults (800 points, speed 1.5 Hz)" "$BENCH"
+  row "speed 1.0 Hz, beta_rot 6" "$BENCH" --smooth-speed-hz 1.0 --smooth-beta-rot 6
+  row "no filter" "$BENCH" --smooth 0
+  row "true shape held" "$BENCH" --true-shape
 fi
 
 # 2. sweeps: points used, iterations, coarse mesh resolution (walk, fast swing, turn, one shape
