@@ -23,6 +23,8 @@ static void usage(FILE *f)
                "  --iterations N         tryon's method: constraint and contact sweeps a step\n"
                "                         (default 3; more lowers the strain, costs time)\n"
                "  --obj PREFIX           write PREFIX<n>.obj, the dressed garment of pattern n\n"
+               "  --strain-report        after each row: the stretch springs over the fabric's\n"
+               "                         max strain, per panel, and the worst with where they lie\n"
                "  --drape                no patterns: the Cusick drape test of each fabric (or\n"
                "                         of --fabric's), a 0.30 m disc on a 0.18 m support\n"
                "  --stability            the map of seam stiffness x time step of --method on\n"
@@ -39,6 +41,7 @@ typedef struct options {
     const gar_fabric *fabric;
     float spacing;
     int shape, cloth_cloth, iterations, drape, pick_size, fabric_given, stability;
+    int strain_report;
 } options;
 
 static int need(int i, int argc, const char *opt)
@@ -64,6 +67,10 @@ static int parse(int argc, char **argv, options *o)
             *(!strcmp(a, "--drape")       ? &o->drape
               : !strcmp(a, "--pick-size") ? &o->pick_size
                                           : &o->stability) = 1;
+            continue;
+        }
+        if (!strcmp(a, "--strain-report")) {
+            o->strain_report = 1;
             continue;
         }
         if (!strcmp(a, "--method") || !strcmp(a, "--collision") || !strcmp(a, "--size") ||
@@ -192,6 +199,8 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
                 why.detail);
     else if (o->obj && write_obj(&m, o->obj, n))
         fprintf(stderr, "tryon-bench-dress: cannot write %s%d.obj\n", o->obj, n);
+    if (!rc && o->strain_report && gar_strain_report(&p, &m, body, o->fabric->max_strain, stdout))
+        fprintf(stderr, "tryon-bench-dress: %s: strain report: out of memory\n", path);
     *verts = m.num_vertices;
     gar_mesh_free(&m);
     gar_pattern_free(&p);
@@ -200,7 +209,7 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
 
 int main(int argc, char **argv)
 {
-    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0};
+    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0, 0};
     o.fabric = gar_fabric_find("cotton");
     int first = parse(argc, argv, &o);
     if (first <= 0)
