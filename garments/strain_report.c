@@ -4,11 +4,14 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "bodyfit.h"
 #include "dress_internal.h"
 
 #define GAR_REPORT_WORST 12
+/* A vertex this close to the body lies on it (the dressing keeps cloth 3 mm out). */
+#define GAR_ON_BODY_M 0.005f
 
 /* per vertex: how many panel edges it lies on (2 = a panel corner), the first of them, and how
  * many joints name it */
@@ -43,6 +46,40 @@ static const char *edge_label(const gar_pattern *p, const gar_mesh *m, int e)
             return l[0] ? l : "edge";
         }
     return "?";
+}
+
+/* Per edge label (summed over the panels: a waist edge of four panels is one loop), the cut
+ * length and the dressed length: a mean strain over the limit along a whole free edge is the
+ * body wider than the pattern there, not the solver. */
+static void edge_lengths(const gar_pattern *p, const gar_mesh *m, const gar_body_sdf *sdf, FILE *f)
+{
+    fprintf(f, "  edge label       cut_mm  dressed_mm  mean_strain  on_body_%%\n");
+    for (int e = 0; e < m->num_edges; e++) {
+        const char *l = edge_label(p, m, e);
+        int seen = 0;
+        for (int q = 0; q < e && !seen; q++)
+            seen = !strcmp(edge_label(p, m, q), l);
+        if (seen)
+            continue;
+        double cut = 0, dressed = 0;
+        int on = 0, all = 0;
+        for (int q = e; q < m->num_edges; q++) {
+            if (strcmp(edge_label(p, m, q), l))
+                continue;
+            for (int k = m->edge_offset[q]; k < m->edge_offset[q + 1]; k++, all++)
+                on += gar_body_sdf_eval(sdf, m->xyz + 3 * m->edge_vertices[k]) < GAR_ON_BODY_M;
+            for (int k = m->edge_offset[q]; k + 1 < m->edge_offset[q + 1]; k++) {
+                int a = m->edge_vertices[k], b = m->edge_vertices[k + 1];
+                cut += hypotf(m->uv_m[2 * a] - m->uv_m[2 * b],
+                              m->uv_m[2 * a + 1] - m->uv_m[2 * b + 1]);
+                const float *x = m->xyz + 3 * a, *y = m->xyz + 3 * b;
+                dressed += sqrtf((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+                                 (x[2] - y[2]) * (x[2] - y[2]));
+            }
+        }
+        fprintf(f, "  %-16.16s %7.1f %10.1f %11.4f %10.0f\n", l, 1e3 * cut, 1e3 * dressed,
+                cut > 0 ? dressed / cut - 1 : 0, all ? 100.0 * on / all : 0.0);
+    }
 }
 
 int gar_strain_report(const gar_pattern *p, const gar_mesh *m, const struct fit_model *body,
@@ -98,6 +135,8 @@ int gar_strain_report(const gar_pattern *p, const gar_mesh *m, const struct fit_
         }
         fprintf(f, "\n");
     }
+    if (!rc)
+        edge_lengths(p, m, sdf, f);
     gar_body_sdf_destroy(sdf);
     free(e), free(worst), free(per_panel), free(edges), free(joints), free(first);
     gar_springs_free(&sp);
