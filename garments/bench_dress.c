@@ -22,6 +22,8 @@ static void usage(FILE *f)
                "  --cloth-cloth on|off   panel-panel repulsion (default on)\n"
                "  --iterations N         tryon's method: constraint and contact sweeps a step\n"
                "                         (default 3; more lowers the strain, costs time)\n"
+               "  --spread N             tryon's method: the last rounds spreading the corners'\n"
+               "                         stretch (default 100, 0 = none)\n"
                "  --obj PREFIX           write PREFIX<n>.obj, the dressed garment of pattern n\n"
                "  --strain-report        after each row: the stretch springs over the fabric's\n"
                "                         max strain, per panel, and the worst with where they lie\n"
@@ -41,7 +43,7 @@ typedef struct options {
     const gar_fabric *fabric;
     float spacing;
     int shape, cloth_cloth, iterations, drape, pick_size, fabric_given, stability;
-    int strain_report;
+    int strain_report, spread;
 } options;
 
 static int need(int i, int argc, const char *opt)
@@ -75,7 +77,8 @@ static int parse(int argc, char **argv, options *o)
         }
         if (!strcmp(a, "--method") || !strcmp(a, "--collision") || !strcmp(a, "--size") ||
             !strcmp(a, "--fabric") || !strcmp(a, "--spacing") || !strcmp(a, "--shape") ||
-            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj") || !strcmp(a, "--iterations")) {
+            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj") || !strcmp(a, "--iterations") ||
+            !strcmp(a, "--spread")) {
             if (!need(i, argc, a))
                 return -1;
             const char *v = argv[++i];
@@ -99,6 +102,13 @@ static int parse(int argc, char **argv, options *o)
                     return -1;
                 }
                 o->fabric_given = 1;
+            } else if (!strcmp(a, "--spread")) {
+                long k = strtol(v, &end, 10);
+                if (*end || !*v || k < 0 || k > 10000) {
+                    fprintf(stderr, "tryon-bench-dress: --spread %s: not 0..10000\n", v);
+                    return -1;
+                }
+                o->spread = k ? (int)k : -1;
             } else if (!strcmp(a, "--iterations")) {
                 long k = strtol(v, &end, 10);
                 if (*end || k < 1 || k > 100) {
@@ -189,8 +199,10 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
     if (!rc)
         rc = gar_mesh_place(&p, &m, body, NULL, NULL, NULL, &why);
     if (!rc) {
-        gar_dress_desc d = {
-            .fabric = o->fabric, .cloth_cloth = o->cloth_cloth, .iterations = o->iterations};
+        gar_dress_desc d = {.fabric = o->fabric,
+                            .cloth_cloth = o->cloth_cloth,
+                            .iterations = o->iterations,
+                            .spread_rounds = o->spread};
         rc = !strcmp(o->method, "tryon") ? gar_dress_tryon(&p, &m, body, &d, st, &why)
                                          : gar_dress_seed(&p, &m, body, &d, st, &why);
     }
@@ -209,7 +221,7 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
 
 int main(int argc, char **argv)
 {
-    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0, 0};
+    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0, 0, 0};
     o.fabric = gar_fabric_find("cotton");
     int first = parse(argc, argv, &o);
     if (first <= 0)
