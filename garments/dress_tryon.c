@@ -19,6 +19,7 @@
 #include "cloth_cloth.h"
 #include "dress_internal.h"
 #include "bending.h"
+#include "strain_held.h"
 
 #define GAR_GRAVITY_M_S2 9.81f
 /* Seams close no faster than this (m/s): the panels' interiors follow their edges. */
@@ -232,9 +233,11 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
 }
 
 /* The last rounds: passes of the strain limit and the seams (closed: they were), then the
- * contacts (so nothing ends inside the body), positions only. Each round's strain limit shortens
- * the corner springs, the seams and contacts put back part of it on their neighbours: the peak
- * spreads along the edge instead of being put back where it was. */
+ * contacts (so nothing ends inside the body), positions only. A fastened waist's vertices keep
+ * their height in the strain limit (gar_strain_limit_held): the cloth hanging from them is pulled
+ * up to them instead of each pass pulling them down half-way and the hold putting them back. Each
+ * round's strain limit shortens the corner springs, the seams and contacts put back part of it on
+ * their neighbours: the peak spreads along the edge instead of being put back where it was. */
 static void spread(tdress *d)
 {
     const int32_t(*ends)[2] = (const int32_t(*)[2])d->ends;
@@ -242,8 +245,12 @@ static void spread(tdress *d)
         sim_post_begin(d->x, d->xp, 0, d->n);
         for (int k = 0; k < GAR_TRYON_SPREAD_PASSES; k++) {
             for (int c = 0; c < d->nstretch_col; c++)
-                sim_strain_limit(d->x, ends, d->rest, d->kind, d->col_start[c], d->col_start[c + 1],
-                                 d->limit);
+                if (d->fastened) /* a fastened waist's height held, the rest as sim's limit */
+                    gar_strain_limit_held(d->x, ends, d->rest, d->fastened, d->limit,
+                                          d->col_start[c], d->col_start[c + 1]);
+                else
+                    sim_strain_limit(d->x, ends, d->rest, d->kind, d->col_start[c],
+                                     d->col_start[c + 1], d->limit);
             project_seams(d, 0.0f);
         }
         sim_post_end(d->x, d->xp, 0, d->n);

@@ -14,6 +14,7 @@
 #include "bodyfit.h"
 #include "dress_internal.h"
 #include "garments.h"
+#include "strain_held.h"
 
 static fit_model *body_create(void)
 {
@@ -206,6 +207,33 @@ static void test_tryon_spreads_corner_strain(void **state)
     fit_model_destroy(b);
 }
 
+/* The strain limit with a fastened height held: a spring from a fastened vertex, stretched
+ * along a slant, shortens at each pass (a linearised step: the fastened end does not move along
+ * the spring) to rest (1 + limit), the fastened vertex's height kept and the free end taking all
+ * the vertical correction; a free spring is shortened in one pass, split by inverse mass. */
+static void test_strain_limit_holds_fastened_height(void **state)
+{
+    (void)state;
+    float x[4][4] = {{0, 1, 0, 2}, {0.6f, 0.2f, 0, 2}, {0, 0, 0, 1}, {0, 0, 2, 3}};
+    const int32_t ends[2][2] = {{0, 1}, {2, 3}};
+    const float rest[2] = {0.5f, 1.0f};
+    const uint8_t fastened[4] = {1, 0, 0, 0};
+    float last = 1.0f; /* the slanted spring's length, 1.0 at the start */
+    for (int pass = 0; pass < 30; pass++) {
+        gar_strain_limit_held(x, ends, rest, fastened, 0.1f, 0, 2);
+        float d[3] = {x[1][0] - x[0][0], x[1][1] - x[0][1], x[1][2] - x[0][2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        assert_true(len <= last + 1e-6f && len >= 0.55f - 1e-5f);
+        last = len;
+    }
+    assert_float_equal(last, 0.55f, 1e-4f);
+    assert_float_equal(x[0][1], 1.0f, 0.0f); /* the held height */
+    assert_true(x[0][0] > 0.0f && x[1][1] > 0.2f);
+    /* the free spring: 2 long, limit 1.1, moved 0.9 in all, 1 : 3 by inverse mass */
+    assert_float_equal(x[2][2], 0.225f, 1e-5f);
+    assert_float_equal(x[3][2], 2.0f - 0.675f, 1e-5f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +243,7 @@ int main(void)
         cmocka_unit_test(test_tryon_dresses_skirt),
         cmocka_unit_test(test_tryon_dresses_jeans_in_denim),
         cmocka_unit_test(test_tryon_spreads_corner_strain),
+        cmocka_unit_test(test_strain_limit_holds_fastened_height),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
