@@ -96,6 +96,7 @@ typedef struct tdress {
     float *pin_xyz;          /* [vertex][3] where */
     const uint8_t *fastened; /* [vertex] 1 = a fastened waistband's (NULL = none) */
     float *fast_y;           /* [vertex] the height it is held at: where it was placed */
+    int any_fastened;        /* some vertex is fastened */
 } tdress;
 
 static void partner(const tdress *d, const gar_joint *j, float out[3])
@@ -245,7 +246,7 @@ static void spread(tdress *d)
         sim_post_begin(d->x, d->xp, 0, d->n);
         for (int k = 0; k < GAR_TRYON_SPREAD_PASSES; k++) {
             for (int c = 0; c < d->nstretch_col; c++)
-                if (d->fastened) /* a fastened waist's height held, the rest as sim's limit */
+                if (d->any_fastened) /* a fastened waist's height held */
                     gar_strain_limit_held(d->x, ends, d->rest, d->fastened, d->limit,
                                           d->col_start[c], d->col_start[c + 1]);
                 else
@@ -414,8 +415,10 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
     if ((d->fastened = body->fastened)) {
         if (!(d->fast_y = malloc(n * sizeof *d->fast_y)))
             return -GAR_ERR_NO_MEMORY;
-        for (size_t i = 0; i < n; i++)
+        for (size_t i = 0; i < n; i++) {
             d->fast_y[i] = m->xyz[3 * i + 1];
+            d->any_fastened |= d->fastened[i];
+        }
     }
     if ((d->pinned = body->pinned)) {
         if (!(d->pin_xyz = malloc(n * 3 * sizeof *d->pin_xyz)))
