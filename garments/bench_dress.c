@@ -22,7 +22,11 @@ static void usage(FILE *f)
                "  --cloth-cloth on|off   panel-panel repulsion (default on)\n"
                "  --iterations N         tryon's method: constraint and contact sweeps a step\n"
                "                         (default 3; more lowers the strain, costs time)\n"
+               "  --spread N             tryon's method: the last rounds spreading the corners'\n"
+               "                         stretch (default 100, 0 = none)\n"
                "  --obj PREFIX           write PREFIX<n>.obj, the dressed garment of pattern n\n"
+               "  --strain-report        after each row: the stretch springs over the fabric's\n"
+               "                         max strain, per panel, and the worst with where they lie\n"
                "  --drape                no patterns: the Cusick drape test of each fabric (or\n"
                "                         of --fabric's), a 0.30 m disc on a 0.18 m support\n"
                "  --stability            the map of seam stiffness x time step of --method on\n"
@@ -39,6 +43,7 @@ typedef struct options {
     const gar_fabric *fabric;
     float spacing;
     int shape, cloth_cloth, iterations, drape, pick_size, fabric_given, stability;
+    int strain_report, spread;
 } options;
 
 static int need(int i, int argc, const char *opt)
@@ -66,9 +71,14 @@ static int parse(int argc, char **argv, options *o)
                                           : &o->stability) = 1;
             continue;
         }
+        if (!strcmp(a, "--strain-report")) {
+            o->strain_report = 1;
+            continue;
+        }
         if (!strcmp(a, "--method") || !strcmp(a, "--collision") || !strcmp(a, "--size") ||
             !strcmp(a, "--fabric") || !strcmp(a, "--spacing") || !strcmp(a, "--shape") ||
-            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj") || !strcmp(a, "--iterations")) {
+            !strcmp(a, "--cloth-cloth") || !strcmp(a, "--obj") || !strcmp(a, "--iterations") ||
+            !strcmp(a, "--spread")) {
             if (!need(i, argc, a))
                 return -1;
             const char *v = argv[++i];
@@ -92,6 +102,13 @@ static int parse(int argc, char **argv, options *o)
                     return -1;
                 }
                 o->fabric_given = 1;
+            } else if (!strcmp(a, "--spread")) {
+                long k = strtol(v, &end, 10);
+                if (*end || !*v || k < 0 || k > 10000) {
+                    fprintf(stderr, "tryon-bench-dress: --spread %s: not 0..10000\n", v);
+                    return -1;
+                }
+                o->spread = k ? (int)k : -1;
             } else if (!strcmp(a, "--iterations")) {
                 long k = strtol(v, &end, 10);
                 if (*end || k < 1 || k > 100) {
@@ -182,8 +199,10 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
     if (!rc)
         rc = gar_mesh_place(&p, &m, body, NULL, NULL, NULL, &why);
     if (!rc) {
-        gar_dress_desc d = {
-            .fabric = o->fabric, .cloth_cloth = o->cloth_cloth, .iterations = o->iterations};
+        gar_dress_desc d = {.fabric = o->fabric,
+                            .cloth_cloth = o->cloth_cloth,
+                            .iterations = o->iterations,
+                            .spread_rounds = o->spread};
         rc = !strcmp(o->method, "tryon") ? gar_dress_tryon(&p, &m, body, &d, st, &why)
                                          : gar_dress_seed(&p, &m, body, &d, st, &why);
     }
@@ -192,6 +211,8 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
                 why.detail);
     else if (o->obj && write_obj(&m, o->obj, n))
         fprintf(stderr, "tryon-bench-dress: cannot write %s%d.obj\n", o->obj, n);
+    if (!rc && o->strain_report && gar_strain_report(&p, &m, body, o->fabric->max_strain, stdout))
+        fprintf(stderr, "tryon-bench-dress: %s: strain report: out of memory\n", path);
     *verts = m.num_vertices;
     gar_mesh_free(&m);
     gar_pattern_free(&p);
@@ -200,7 +221,7 @@ static int run(const char *path, const options *o, const fit_model *body, int n,
 
 int main(int argc, char **argv)
 {
-    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0};
+    options o = {"seed", NULL, NULL, GAR_SIZE_M, NULL, 0.02f, 0, 1, 0, 0, 0, 0, 0, 0, 0};
     o.fabric = gar_fabric_find("cotton");
     int first = parse(argc, argv, &o);
     if (first <= 0)

@@ -178,6 +178,9 @@ typedef struct gar_dress_desc {
      * (0 = 1, its default), tryon's seams as XPBD constraints of that stiffness (0 = hard, its
      * default). The stability map's axis (docs/garments.md). */
     float seam_gain;
+    /* tryon's method: the last rounds of strain limit, seams and contacts that spread the
+     * corners' stretch along their edges (0 = 100, < 0 = none; docs/garments.md, "Strain") */
+    int spread_rounds;
 } gar_dress_desc;
 
 /* The figures of a dressed garment (ARCHITECTURE.md "Metrics"). */

@@ -140,15 +140,17 @@ def tshirt():
 
 
 def dress():
-    # Sleeveless: the armhole cut in to a 7 cm shoulder, clear of the deltoid (where a wider
-    # shoulder's corner stretched 40 %), and down to 2 cm under the armpit.
+    # Sleeveless: the armhole cut in to a 6 cm shoulder, clear of the deltoid (where a wider
+    # shoulder's corner stretched 40 %), and down to 2 cm under the armpit. The neckline 1 cm
+    # wider each side and 2 cm (front) and 3 cm (back) deeper than it was: the narrower one lay on
+    # the neck's base stretched 5.4 % along its whole length (docs/garments.md, "Strain").
     front = Panel([(-32, 0), (32, 0), (26.5, 45), (24.5, 57), (28, 70), (15, 95),
-                   (8, 96), (-8, 96), (-15, 95), (-28, 70), (-24.5, 57), (-26.5, 45)],
+                   (9, 96), (-9, 96), (-15, 95), (-28, 70), (-24.5, 57), (-26.5, 45)],
                   [("hem", ("c", 200, 0, 1)), ("side_r0", None), ("side_r1", None),
                    ("side_r2", None), ("arm_r", ("q", (17, 76))), ("shoulder_r", None),
-                   ("neck", ("q", (0, 78))), ("shoulder_l", None), ("arm_l", ("q", (-17, 76))),
+                   ("neck", ("q", (0, 76))), ("shoulder_l", None), ("arm_l", ("q", (-17, 76))),
                    ("side_l2", None), ("side_l1", None), ("side_l0", None)])
-    back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 92)))] + front.edges[7:])
+    back = Panel(front.pts, front.edges[:6] + [("neck", ("q", (0, 89)))] + front.edges[7:])
     back = back.mirrored()
     panels = {"front": (front, (0, 57, 15), FRONT), "back": (back, (0, 57, -15), BACK)}
     st = []
