@@ -52,6 +52,18 @@ for c in ("01_01", "01_03", "Boxing_Toes"):
                   max(f(x, "max_strain_pct") for x in g), n / len(g) if n > 1 else 0.0,
                   part("over_top"), part("over_mid"), part("over_hem"), part("over_front"),
                   part("near_l_thigh") + part("near_r_thigh")))
+print("\nfailing frames by the thigh's flexion (frames), and by the thigh's skin inside the body:")
+print("| clip | frames | failing | thigh 0-15 deg | 15-30 | 30-45 | 45-60 | past 60 | > 60 thigh skin vertices inside | none inside |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+share = lambda g: "%.0f %% (%d)" % (100.0 * sum(map(bad, g)) / len(g), len(g)) if g else "-"
+thigh = lambda x: max(f(x, "thigh_l_deg"), f(x, "thigh_r_deg"))
+for c in ("01_01", "01_03", "Boxing_Toes"):
+    rows = [x for x in csv.DictReader(open(os.path.join(out, c + ".csv")))][30:]
+    cells = [share([x for x in rows if lo <= thigh(x) < hi])
+             for lo, hi in ((0, 15), (15, 30), (30, 45), (45, 60), (60, 1000))]
+    print("| %s | %d | %.0f %% | %s | %s | %s |" % (c, len(rows), 100.0 * sum(map(bad, rows)) /
+          len(rows), " | ".join(cells), share([x for x in rows if f(x, "skin_thighs") > 60]),
+          share([x for x in rows if f(x, "skin_thighs") == 0])))
 PY
 echo "the march, thighs raised further (tryon-bench-sim --motion walk@0.5,AMOUNT --frames 120):"
 for a in 1 1.5 2 2.5; do
