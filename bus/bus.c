@@ -61,6 +61,11 @@ int64_t bus_now_wall_us(void)
     return clock_us(CLOCK_REALTIME);
 }
 
+int64_t bus_now_cpu_us(void)
+{
+    return clock_us(CLOCK_PROCESS_CPUTIME_ID);
+}
+
 TRYON_ERROR_WORDS(BUS_ERROR_LIST, BUS_ERROR_COUNT, bus_error_name, bus_error_text,
                   "BUS_ERR_UNKNOWN")
 

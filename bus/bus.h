@@ -38,6 +38,8 @@ const char *bus_default_url(void); /* $TRYON_LCM_URL or BUS_DEFAULT_URL */
  * processes. */
 int64_t bus_now_mono_us(void);
 int64_t bus_now_wall_us(void);
+/* CPU time of the whole process, every thread: what a stage's frame costs whatever the load. */
+int64_t bus_now_cpu_us(void);
 
 /* Why a message was refused. One list makes the enum and the words, so a test can name which
  * rejection happened. */

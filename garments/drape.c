@@ -128,7 +128,7 @@ static int drape_run(const gar_drape_desc *desc, gar_mesh *m, gar_drape_result *
         m->xyz[3 * i + 2] = -v;
         pinned[i] = hypotf(u, v) <= rs;
     }
-    gar_body_mesh body = {sxyz, nv, stri, nt, pinned};
+    gar_body_mesh body = {sxyz, nv, stri, nt, pinned, NULL};
     gar_dress_desc dd = {
         .fabric = desc->fabric, .drape_steps = desc->steps, .iterations = desc->iterations};
     gar_dress_stats st;

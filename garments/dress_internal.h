@@ -57,7 +57,17 @@ typedef struct gar_body_mesh {
     const int32_t *triangles; /* [triangle][3], counter-clockwise seen from outside */
     int num_triangles;
     const uint8_t *pinned; /* [cloth vertex] 1 = held (NULL = none) */
+    /* [cloth vertex] 1 = held at the height it was placed at, free around the body: a fastened
+     * waistband (NULL = none; gar_fastened_vertices) */
+    const uint8_t *fastened;
 } gar_body_mesh;
+/* A fastened waistband: the vertices of the edges labelled GAR_WAIST_LABEL on torso panels (a
+ * skirt's; trousers hang from the crotch too). tryon's dressing holds their height: nothing else
+ * holds a skirt up, and its solver lets the contacts stretch a band over the hips (the skirt M
+ * slid 13 cm down, its waist 11.6 % longer; docs/garments.md, "Placement"). [vertex] 1;
+ * calloc'd, NULL when out of memory. */
+#define GAR_WAIST_LABEL "waist"
+uint8_t *gar_fastened_vertices(const gar_pattern *p, const gar_mesh *m);
 /* tryon's dressing (dress_tryon.c) on such a body: fills st's ms, steps and seaming_s only. */
 int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_desc *desc,
                        gar_dress_stats *st, gar_reject *why);

@@ -18,6 +18,7 @@
 #include "passes.h"
 #include "cloth_cloth.h"
 #include "dress_internal.h"
+#include "bending.h"
 
 #define GAR_GRAVITY_M_S2 9.81f
 /* Seams close no faster than this (m/s): the panels' interiors follow their edges. */
@@ -79,9 +80,13 @@ typedef struct tdress {
     sim_collider *col;
     gar_cc *cc;
     uint8_t *skip;
-    float *xyz, *push;     /* [vertex][3] scratch for cloth-cloth */
-    const uint8_t *pinned; /* [vertex] 1 = held where it was placed (NULL = none) */
-    float *pin_xyz;        /* [vertex][3] where */
+    float *xyz, *push;       /* [vertex][3] scratch for cloth-cloth */
+    const uint8_t *pinned;   /* [vertex] 1 = held where it was placed (NULL = none) */
+    gar_bending bend;        /* isometric bending (bending.h), the fabric's rigidity */
+    int sweep_cols;          /* colours swept by the distance constraints */
+    float *pin_xyz;          /* [vertex][3] where */
+    const uint8_t *fastened; /* [vertex] 1 = a fastened waistband's (NULL = none) */
+    float *fast_y;           /* [vertex] the height it is held at: where it was placed */
 } tdress;
 
 static void partner(const tdress *d, const gar_joint *j, float out[3])
@@ -169,21 +174,29 @@ static void cloth_cloth(tdress *d)
         }
 }
 
-static void constraints(tdress *d, float shrink)
+/* The distance constraints, the strain limit, bending (first sweep of a step only: XPBD's
+ * multipliers make one sweep honour the rigidity, and the sweeps cost a third more each with it)
+ * and the seams. */
+static void constraints(tdress *d, float shrink, int bend)
 {
     const int32_t(*ends)[2] = (const int32_t(*)[2])d->ends;
-    for (int c = 0; c < d->ncol; c++)
+    for (int c = 0; c < d->sweep_cols; c++)
         sim_project_springs(d->x, ends, d->rest, d->kind, d->alpha, d->col_start[c],
                             d->col_start[c + 1]);
     for (int c = 0; c < d->nstretch_col; c++)
         sim_strain_limit(d->x, ends, d->rest, d->kind, d->col_start[c], d->col_start[c + 1],
                          d->limit);
+    if (bend)
+        gar_bending_project(&d->bend, d->x);
     project_seams(d, shrink);
 }
 
 /* Pinned vertices back where they were placed, at rest. */
 static void hold_pins(tdress *d)
 {
+    for (int i = 0; d->fast_y && i < d->n; i++)
+        if (d->fastened[i]) /* its height only: it is free to settle around the body */
+            d->x[i][1] = d->xp[i][1] = d->fast_y[i];
     for (int i = 0; d->pinned && i < d->n; i++)
         if (d->pinned[i]) {
             memcpy(d->x[i], d->pin_xyz + 3 * i, 3 * sizeof(float));
@@ -196,14 +209,15 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
 {
     float g[3] = {0, -gravity * d->h * d->h, 0};
     sim_verlet(d->x, d->xp, 0, d->n, 1.0f - damping_per_s * d->h, g);
-    constraints(d, shrink);
+    gar_bending_begin_step(&d->bend);
+    constraints(d, shrink, 1);
     if (s % GAR_TRYON_CC_EVERY == 0)
         cloth_cloth(d);
     contacts(d, s % GAR_TRYON_CONTACT_EVERY == 0);
     /* further sweeps of constraints and contacts (cached): the stretch that the contacts put
      * back each sweep is what the strain limit removes next (docs/garments.md, "Strain") */
     for (int k = 1; k < d->iterations; k++) {
-        constraints(d, shrink);
+        constraints(d, shrink, 0);
         contacts(d, 0);
     }
     hold_pins(d);
@@ -213,8 +227,9 @@ static void step(tdress *d, int s, float shrink, float gravity, float damping_pe
 static void settle(tdress *d)
 {
     for (int r = 0; r < GAR_TRYON_SETTLE_ROUNDS; r++) {
+        gar_bending_begin_step(&d->bend);
         sim_post_begin(d->x, d->xp, 0, d->n);
-        constraints(d, 0.0f);
+        constraints(d, 0.0f, 1);
         sim_post_end(d->x, d->xp, 0, d->n);
         contacts(d, r == 0);
         hold_pins(d);
@@ -290,8 +305,9 @@ static void tdress_free(tdress *d)
 {
     free(d->ends), free(d->col_start), free(d->rest), free(d->kind);
     free(d->x), free(d->xp), free(d->gap0), free(d->skip), free(d->xyz), free(d->push);
-    free(d->pin_xyz);
+    free(d->pin_xyz), free(d->fast_y);
     gar_springs_free(&d->sp);
+    gar_bending_free(&d->bend);
     sim_collider_destroy(d->col);
     gar_cc_destroy(d->cc);
 }
@@ -332,8 +348,14 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
         d->alpha[i] = 1.0f / (k[i] * d->h * d->h);
     for (int j = 0; j < m->num_joints; j++)
         d->gap0[j] = joint_gap(d, &m->joints[j]);
-    if ((rc = colour_springs(d)))
+    if ((rc = colour_springs(d)) || (rc = gar_bending_build(m, &d->bend)))
         return rc;
+    /* Bending is the isometric model's alone: distance constraints across an edge or over two
+     * edges, stiff at these masses and steps, locked the folds whatever their stiffness
+     * (docs/garments.md, "Bending"); in the plane a triangle mesh of stretch edges is rigid in
+     * shear by itself. */
+    d->sweep_cols = d->nstretch_col;
+    gar_bending_prepare(&d->bend, (const float(*)[4])d->x, fab->bend_rigidity_n_m, d->h);
     gar_seam_skip(m, &d->sp, d->skip);
     if (desc && desc->cloth_cloth && !(d->cc = gar_cc_create(m, d->skip)))
         return -GAR_ERR_NO_MEMORY;
@@ -349,12 +371,33 @@ static int tdress_init(tdress *d, gar_mesh *m, const gar_body_mesh *body,
     if (sim_collider_set_body(d->col, body->xyz, body->num_vertices, body->triangles,
                               body->num_triangles) < 0)
         return -GAR_ERR_ARG;
+    if ((d->fastened = body->fastened)) {
+        if (!(d->fast_y = malloc(n * sizeof *d->fast_y)))
+            return -GAR_ERR_NO_MEMORY;
+        for (size_t i = 0; i < n; i++)
+            d->fast_y[i] = m->xyz[3 * i + 1];
+    }
     if ((d->pinned = body->pinned)) {
         if (!(d->pin_xyz = malloc(n * 3 * sizeof *d->pin_xyz)))
             return -GAR_ERR_NO_MEMORY;
         memcpy(d->pin_xyz, m->xyz, n * 3 * sizeof *d->pin_xyz);
     }
     return 0;
+}
+
+uint8_t *gar_fastened_vertices(const gar_pattern *p, const gar_mesh *m)
+{
+    uint8_t *w = calloc((size_t)m->num_vertices + 1, 1);
+    for (int pi = 0; w && pi < p->num_panels && pi < m->num_panels; pi++)
+        for (int e = 0; e < p->panels[pi].num_edges && gar_panel_part(p, pi) == GAR_PART_TORSO;
+             e++) {
+            if (strcmp(p->panels[pi].edges[e].label, GAR_WAIST_LABEL))
+                continue;
+            int fe = m->panel_first_edge[pi] + e;
+            for (int k = m->edge_offset[fe]; k < m->edge_offset[fe + 1]; k++)
+                w[m->edge_vertices[k]] = 1;
+        }
+    return w;
 }
 
 int gar_dress_tryon_on(gar_mesh *m, const gar_body_mesh *body, const gar_dress_desc *desc,
@@ -412,9 +455,17 @@ int gar_dress_tryon(const gar_pattern *p, gar_mesh *m, const fit_model *body,
 {
     if (!p || !m || !body || !st)
         return gar_refuse(why, GAR_ERR_ARG, "dressing needs a pattern, its mesh and a body");
-    gar_body_mesh bm = {fit_model_rest_vertices(body), fit_model_vertex_count(body),
-                        fit_model_triangles(body), fit_model_triangle_count(body), NULL};
+    uint8_t *waist = gar_fastened_vertices(p, m);
+    if (!waist)
+        return gar_refuse(why, GAR_ERR_NO_MEMORY, "dressing (%d vertices)", m->num_vertices);
+    gar_body_mesh bm = {fit_model_rest_vertices(body),
+                        fit_model_vertex_count(body),
+                        fit_model_triangles(body),
+                        fit_model_triangle_count(body),
+                        NULL,
+                        waist};
     int rc = gar_dress_tryon_on(m, &bm, desc, st, why);
+    free(waist);
     if (rc)
         return rc;
     float ms = st->ms, seaming = st->seaming_s;

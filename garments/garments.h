@@ -281,8 +281,9 @@ typedef struct gar_fabric {
     float stretch_n_m;
     float shear_n_m;
     float bend_n_m;
-    float friction;   /* cloth-body Coulomb coefficient */
-    float max_strain; /* elongation the seed's velocity correction allows, fraction */
+    float friction;          /* cloth-body Coulomb coefficient */
+    float max_strain;        /* elongation the seed's velocity correction allows, fraction */
+    float bend_rigidity_n_m; /* bending rigidity B (N m = N m^2 / m), tryon's bending */
 } gar_fabric;
 int gar_fabric_count(void);
 const gar_fabric *gar_fabric_get(int i);

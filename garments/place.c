@@ -11,8 +11,16 @@
 #include "place_internal.h"
 
 #define GAR_DEFAULT_CLEARANCE_M 0.02f
-/* The shipped files are drawn for bodyfit's average body (1.75 m); heights scale from it. */
+/* The shipped files are drawn for bodyfit's average body (1.75 m) and its torso slices' heights
+ * (fit_model_measure: hip, waist, chest; test_garment_waist checks them against the model). A
+ * file's heights are mapped piecewise linearly through these to the actual body's, so that what
+ * the file puts at the reference waist lands at this body's waist: scaling by height alone put
+ * a skirt's waistband 10 cm under the slim tall body's waist (docs/garments.md, "Placement"). */
 #define GAR_REFERENCE_HEIGHT_M 1.75f
+#define GAR_REFERENCE_HIP_Y    0.937f
+#define GAR_REFERENCE_WAIST_Y  1.095f
+#define GAR_REFERENCE_CHEST_Y  1.254f
+#define GAR_HEIGHT_KNOTS       5
 /* Radius profiles in 1 cm bins along each part's axis. */
 #define GAR_PROFILE_BIN_M 0.01f
 #define GAR_PROFILE_BINS  256
@@ -223,6 +231,47 @@ static void panel_frame(const gar_panel *pn, const part_axis *ax, int torso, flo
     *uc = (lo + hi) / 2;
 }
 
+/* The reference body's landmark heights (floor, hip, waist, chest, top) and this body's. */
+typedef struct height_map {
+    float ref[GAR_HEIGHT_KNOTS], body[GAR_HEIGHT_KNOTS];
+} height_map;
+
+static int height_map_make_scaled(float height, height_map *hm)
+{
+    const float ref[GAR_HEIGHT_KNOTS] = {0, GAR_REFERENCE_HIP_Y, GAR_REFERENCE_WAIST_Y,
+                                         GAR_REFERENCE_CHEST_Y, GAR_REFERENCE_HEIGHT_M};
+    for (int k = 0; k < GAR_HEIGHT_KNOTS; k++)
+        hm->ref[k] = ref[k], hm->body[k] = ref[k] * height / GAR_REFERENCE_HEIGHT_M;
+    return 0;
+}
+
+static int height_map_make(const fit_model *body, height_map *hm)
+{
+    fit_measurements ms;
+    if (fit_model_measure(body, &ms) < 0)
+        return -1;
+    float h = fit_model_shape(body)->height;
+    const float ref[GAR_HEIGHT_KNOTS] = {0, GAR_REFERENCE_HIP_Y, GAR_REFERENCE_WAIST_Y,
+                                         GAR_REFERENCE_CHEST_Y, GAR_REFERENCE_HEIGHT_M};
+    const float mine[GAR_HEIGHT_KNOTS] = {0, ms.hip_y, ms.waist_y, ms.chest_y, h};
+    for (int k = 1; k < GAR_HEIGHT_KNOTS; k++)
+        if (!(mine[k] > mine[k - 1])) /* not in order: scale by height alone */
+            return height_map_make_scaled(h, hm);
+    memcpy(hm->ref, ref, sizeof ref);
+    memcpy(hm->body, mine, sizeof mine);
+    return 0;
+}
+
+/* y on the reference body -> the same place on this body (linear past the last knots). */
+static float height_map_apply(const height_map *hm, float y)
+{
+    int k = 1;
+    while (k < GAR_HEIGHT_KNOTS - 1 && y > hm->ref[k])
+        k++;
+    float t = (y - hm->ref[k - 1]) / (hm->ref[k] - hm->ref[k - 1]);
+    return hm->body[k - 1] + t * (hm->body[k] - hm->body[k - 1]);
+}
+
 int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, const float *body_xyz,
                    const float *joints, const gar_place_desc *desc, gar_reject *why)
 {
@@ -232,6 +281,9 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, con
     const float *jn = joints ? joints : fit_model_rest_joints(body);
     float clear = desc && desc->clearance_m > 0 ? desc->clearance_m : GAR_DEFAULT_CLEARANCE_M;
     float hs = fit_model_shape(body)->height / GAR_REFERENCE_HEIGHT_M;
+    height_map hm;
+    if (height_map_make(body, &hm) < 0)
+        return gar_refuse(why, GAR_ERR_ARG, "placement: the body's torso cannot be measured");
     part_axis *ax = malloc(sizeof *ax);
     if (!ax)
         return gar_refuse(why, GAR_ERR_NO_MEMORY, "placement");
@@ -257,7 +309,7 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, con
             float s, w[3], a[3];
             if (ax->vertical) {
                 gar_panel_to_world(pn, uv, w);
-                s = w[1] * hs;
+                s = height_map_apply(&hm, w[1]);
             } else {
                 s = (vmax - uv[1]) * hs; /* the cap's top at the shoulder joint */
             }

@@ -154,8 +154,10 @@ float4 sim_pseudo_normal(__global const float4 *v, __global const int4 *tris,
     return out;
 }
 
-/* Out to thickness h along the contact normal, then friction mu bounded by the push. */
-void sim_resolve_one(__global float4 *x, __global const float4 *x_prev, int i,
+/* Out to thickness h along the contact normal, inelastic (x_prev moved by the push beyond the
+   point's own approach: twin of inelastic_shift in sim/resolve.c), then friction mu bounded by
+   the push. */
+void sim_resolve_one(__global float4 *x, __global float4 *x_prev, int i,
                      __global const int *contact, __global const float4 *v,
                      __global const int4 *tris, __global const float4 *nrm,
                      __global const int4 *nbr, __global const int *vt_start,
@@ -188,10 +190,18 @@ void sim_resolve_one(__global float4 *x, __global const float4 *x_prev, int i,
     float push = h - dist;
     if (!(push > 0.0f))
         return;
+    float4 prev = x_prev[i];
+    float approach = -sim_dot3(sim_sub3(p, prev), n);
+    float ghost = push - (approach > 0.0f ? approach : 0.0f);
+    ghost = ghost > 0.0f ? ghost : 0.0f;
     p.x += push * n.x;
     p.y += push * n.y;
     p.z += push * n.z;
-    float4 rel = sim_sub3(p, x_prev[i]);
+    prev.x += ghost * n.x;
+    prev.y += ghost * n.y;
+    prev.z += ghost * n.z;
+    x_prev[i] = prev;
+    float4 rel = sim_sub3(p, prev);
     float rn = sim_dot3(rel, n);
     float4 tan = (float4)(rel.x - rn * n.x, rel.y - rn * n.y, rel.z - rn * n.z, 0.0f);
     float tl = sqrt(sim_dot3(tan, tan)), limit = mu * push;
@@ -204,7 +214,7 @@ void sim_resolve_one(__global float4 *x, __global const float4 *x_prev, int i,
     x[i] = p;
 }
 
-__kernel void sim_resolve(__global float4 *x, __global const float4 *x_prev, int begin, int end,
+__kernel void sim_resolve(__global float4 *x, __global float4 *x_prev, int begin, int end,
                           __global const int *contact, __global const float4 *v,
                           __global const int4 *tris, __global const float4 *nrm,
                           __global const int4 *nbr, __global const int *vt_start,

@@ -1,7 +1,9 @@
 /* tryon: the whole pipeline in one command. `tryon run` starts capture, the body stage, the sim
  * and the mirror as separate processes on a private channel prefix, restarts a stage that dies,
  * stops them all on Ctrl-C or when the recording ends, and prints the latency summary;
- * `tryon replay LOG` shows a recorded session again. */
+ * `tryon replay LOG` shows a recorded session again; `tryon pace LOG` plays its bodies to a
+ * tryon-sim at the camera's pace (pace.c); `tryon path LOG` says where its frames' time went
+ * (path.c). */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +21,8 @@ static void usage(FILE *f)
                "                 [--body bodyfit|truth] [--backend auto|c|opencl] [--rate R]\n"
                "                 [--png-every N] [--kiosk]\n"
                "       tryon replay LOG [--headless --out DIR] [--video FILE.mp4] [--speed S]\n"
+               "       tryon pace LOG [--fps F] [--latency MS]\n"
+               "       tryon path LOG\n"
                "  RECORDING: a fakenect dump (INDEX.txt) or an .oni file; --live: a camera\n"
                "             (libfreenect, then OpenNI2)\n"
                "  --body: the body stage, tryon-bodyfit (default) or tryon-truth (the recording's\n"
@@ -265,6 +269,10 @@ int main(int argc, char **argv)
         return run(argc, argv);
     if (argc >= 2 && !strcmp(argv[1], "replay"))
         return tryon_replay(argc, argv);
+    if (argc >= 2 && !strcmp(argv[1], "pace"))
+        return tryon_pace(argc, argv);
+    if (argc >= 2 && !strcmp(argv[1], "path"))
+        return tryon_path(argc, argv);
     usage(stderr);
     return 2;
 }

@@ -16,11 +16,9 @@ static uint32_t be32(const uint8_t *p)
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
 }
 
-/* Calls fn for every event of the log; returns the number read, -1 if the file does not open
- * or is not an LCM log. */
-static int log_each(const char *path,
-                    void (*fn)(const char *ch, const uint8_t *d, uint32_t n, void *user),
-                    void *user)
+int session_log_each(const char *path,
+                     void (*fn)(const char *ch, const uint8_t *d, uint32_t n, void *user),
+                     void *user)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -100,7 +98,7 @@ int tryon_replay(int argc, char **argv)
         }
     }
     replay_scan r = {.profile = bus_profile_create()};
-    if (!log || !r.profile || log_each(log, scan, &r) < 0 || !r.found) {
+    if (!log || !r.profile || session_log_each(log, scan, &r) < 0 || !r.found) {
         fprintf(stderr, "tryon replay: %s: not an LCM log of a tryon session (no TIMING)\n",
                 log ? log : "(no LOG given)");
         bus_profile_destroy(r.profile);

@@ -48,6 +48,15 @@ int session_start(session *s, int first);
 /* tryon-mirror with the session's view options. */
 int session_add_view(session *s);
 int tryon_replay(int argc, char **argv);
+/* Calls fn for every event of an LCM log (replay.c); returns the number read, -1 if the file
+ * does not open or is not an LCM log. */
+int session_log_each(const char *path,
+                     void (*fn)(const char *ch, const uint8_t *d, uint32_t n, void *user),
+                     void *user);
+/* tryon pace LOG: a recorded session's bodies played at the camera's pace (pace.c). */
+int tryon_pace(int argc, char **argv);
+/* tryon path LOG: where each frame's time went, stage by stage (path.c). */
+int tryon_path(int argc, char **argv);
 /* Supervises until the source ends, the view quits, Ctrl-C, or a stage fails for good; then
  * stops every stage. Returns the launcher's exit status. */
 int session_supervise(session *s);

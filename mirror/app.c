@@ -276,7 +276,7 @@ int mirror_app_frame(mirror_app *a)
             fprintf(stderr, "tryon-mirror: the window is %dx%d: the picture is scaled into it\n", w,
                     h);
     }
-    int64_t t0 = bus_now_mono_us();
+    int64_t t0 = bus_now_mono_us(), cpu0 = bus_now_cpu_us(); /* llvmpipe's threads too */
     if (mirror_render(a->renderer, &v, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: frame %d: %s; skipped\n", a->frames_drawn, err);
         return 0;
@@ -296,6 +296,7 @@ int mirror_app_frame(mirror_app *a)
     int64_t now = bus_now_mono_us();
     bus_timing_add(&t, "render", (float)(t1 - t0) / 1000.0f);
     bus_timing_add(&t, "output", (float)(now - t1) / 1000.0f);
+    bus_timing_add(&t, "cpu", (float)(bus_now_cpu_us() - cpu0) / 1000.0f);
     if (a->last_frame_us)
         a->fps += 0.1 * (1e6 / (double)(now - a->last_frame_us) - a->fps);
     a->last_frame_us = now;

@@ -3,6 +3,7 @@
 
 #include "cloth.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -109,4 +110,45 @@ void sim_topologies_mark_live(sim_topologies *t, int32_t id, int64_t now_us)
     t->has_live = 1;
     t->live_id = id;
     t->live_us = now_us;
+}
+
+/* The k-th smallest of v[0..n) (Hoare's selection: linear on average, a frame's body in about a
+ * tenth of a sort); v is reordered. */
+static float select_kth(float *v, int n, int k)
+{
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        float pivot = v[lo + (hi - lo) / 2];
+        int i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                float t = v[i];
+                v[i++] = v[j];
+                v[j--] = t;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return v[k];
+    }
+    return v[k];
+}
+
+float sim_body_motion_mm(const float *before, const float *now, int nv, float *scratch)
+{
+    if (nv <= 0)
+        return 0.0f;
+    for (int i = 0; i < nv; i++) {
+        float dx = now[3 * i] - before[3 * i], dy = now[3 * i + 1] - before[3 * i + 1],
+              dz = now[3 * i + 2] - before[3 * i + 2];
+        scratch[i] = 1000.0f * sqrtf(dx * dx + dy * dy + dz * dz);
+    }
+    return select_kth(scratch, nv, nv / 2);
 }

@@ -51,4 +51,9 @@ int sim_topologies_intake(sim_topologies *t, int32_t id, int nv, const int32_t *
 /* Marks id as the topology the garment was just simulated on (pins it). */
 void sim_topologies_mark_live(sim_topologies *t, int32_t id, int64_t now_us);
 
+/* How far a body moved since the one before (same vertices, xyz metres): the median of its
+ * vertices' displacements, mm, so that a still body's figure is the fitter's noise however much
+ * an arm swings. scratch holds nv floats. */
+float sim_body_motion_mm(const float *before, const float *now, int nv, float *scratch);
+
 #endif

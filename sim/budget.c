@@ -45,3 +45,48 @@ void sim_budget_learn_tail(sim_budget *b, const sim_frame_stats *st)
 {
     b->tail_ms = smooth(b->tail_ms, st->ms_metrics);
 }
+
+/* Seq steps over which two capture times still give the camera's period: a body stage that
+   drops frames skips seqs, one restarted begins again at 0. */
+#define SIM_PACE_MAX_SEQ_STEP 30
+/* Periods and arrivals past this are no pace (a paused recording, a clock step). */
+#define SIM_PACE_MAX_MS 1000.0f
+
+void sim_pace_body(sim_pace *p, int32_t seq, int64_t capture_us, int64_t received_us, int exact)
+{
+    int32_t steps = seq - p->last_seq;
+    if (p->last_capture_us > 0 && steps > 0 && steps <= SIM_PACE_MAX_SEQ_STEP) {
+        float ms = (float)(capture_us - p->last_capture_us) / 1000.0f / (float)steps;
+        if (ms > 0.0f && ms <= SIM_PACE_MAX_MS)
+            p->period_ms = smooth(p->period_ms, ms);
+    }
+    float arrive = (float)(received_us - capture_us) / 1000.0f;
+    if (exact && arrive <= SIM_PACE_MAX_MS)
+        p->arrive_ms = smooth(p->arrive_ms, arrive);
+    p->last_seq = seq;
+    p->last_capture_us = capture_us;
+}
+
+void sim_pace_published(sim_pace *p, float ms)
+{
+    p->publish_ms = smooth(p->publish_ms, ms);
+}
+
+float sim_pace_budget_ms(const sim_pace *p, int64_t capture_us, int64_t now_us, float deadline_ms,
+                         float fallback_ms)
+{
+    double age_ms = (double)(now_us - capture_us) / 1000.0;
+    if (!(p->period_ms > 0.0f) || !(age_ms <= SIM_PACE_MAX_MS))
+        return fallback_ms; /* no pace yet, or a stamp from another time (a log played again) */
+    double due_ms = (double)p->period_ms + (double)p->arrive_ms; /* the next body, from capture */
+    if (deadline_ms > 0.0f && deadline_ms < due_ms)
+        due_ms = deadline_ms;
+    double left = due_ms - age_ms - (double)p->publish_ms;
+    return left > SIM_PACE_MIN_MS ? (float)left : SIM_PACE_MIN_MS;
+}
+
+void sim_set_frame_budget(sim *s, float ms)
+{
+    if (s && ms >= 0.0f)
+        s->desc.frame_budget_ms = ms;
+}

@@ -372,72 +372,6 @@ done:
     return r;
 }
 
-/* The strain-limit hierarchy: breadth-first levels over the stretch springs from the attached
- * vertices; each reached free vertex lists its stretch springs to the level above. A garment
- * without attachments gets no levels. */
-static int build_hierarchy(sim_cloth *c)
-{
-    int nv = c->nv, ns = c->ns;
-    int32_t *level = malloc((size_t)nv * sizeof *level);
-    const int32_t *start = c->adj_start, *adj = c->adj_spring;
-    c->hier_vertex = malloc((size_t)(nv + 1) * sizeof *c->hier_vertex);
-    c->hier_level_start = malloc((size_t)(nv + 2) * sizeof *c->hier_level_start);
-    c->hier_parent_start = malloc((size_t)(nv + 1) * sizeof *c->hier_parent_start);
-    c->hier_parent = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_parent);
-    c->hier_rest = malloc((size_t)(2 * ns + 1) * sizeof *c->hier_rest);
-    int r = 0;
-    if (!level || !c->hier_vertex || !c->hier_level_start || !c->hier_parent_start ||
-        !c->hier_parent || !c->hier_rest) {
-        r = -SIM_ERR_NO_MEMORY;
-        goto done;
-    }
-    for (int i = 0; i < nv; i++)
-        level[i] = -1;
-    /* breadth first: hier_vertex doubles as the queue; the attached vertices seed it and are
-     * dropped from the entries afterwards */
-    int head = 0, tail = 0;
-    for (int a = 0; a < c->num_attachments; a++) {
-        int v = c->attachments[a].vertex;
-        if (level[v] < 0) {
-            level[v] = 0;
-            c->hier_vertex[tail++] = v;
-        }
-    }
-    int seeds = tail;
-    while (head < tail) {
-        int v = c->hier_vertex[head++];
-        for (int k = start[v]; k < start[v + 1]; k++) {
-            int s = adj[k], u = other_end(c, s, v);
-            if (level[u] < 0) {
-                level[u] = level[v] + 1;
-                c->hier_vertex[tail++] = u;
-            }
-        }
-    }
-    int n = tail - seeds, np = 0;
-    memmove(c->hier_vertex, c->hier_vertex + seeds, (size_t)n * sizeof *c->hier_vertex);
-    c->hier_levels = 0;
-    c->hier_level_start[0] = 0;
-    for (int e = 0; e < n; e++) {
-        int v = c->hier_vertex[e];
-        while (c->hier_levels < level[v]) /* levels are 1, 2, ...: entries in BFS order */
-            c->hier_level_start[++c->hier_levels - 1] = e;
-        c->hier_parent_start[e] = np;
-        for (int k = start[v]; k < start[v + 1]; k++) {
-            int s = adj[k], u = other_end(c, s, v);
-            if (level[u] == level[v] - 1) {
-                c->hier_parent[np] = u;
-                c->hier_rest[np++] = c->rest[s];
-            }
-        }
-    }
-    c->hier_parent_start[n] = np;
-    c->hier_level_start[c->hier_levels] = n;
-done:
-    free(level);
-    return r;
-}
-
 int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_reject *why)
 {
     memset(c, 0, sizeof *c);
@@ -501,7 +435,7 @@ int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_
     if (r == 0)
         r = build_tethers(c);
     if (r == 0)
-        r = build_hierarchy(c);
+        r = sim_cloth_hierarchy(c);
     if (r != 0)
         sim_cloth_free(c);
     return r;

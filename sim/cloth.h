@@ -36,9 +36,10 @@ typedef struct sim_cloth {
     int32_t *tether_anchor;
     float *tether_len;
     /* The strain-limit hierarchy (shock propagation from the attachments outward): the free
-     * vertices that attachments reach, by level (hops over stretch springs from the nearest
-     * attached vertex); entry e is vertex hier_vertex[e], its stretch springs to the level above
-     * are [hier_parent_start[e], hier_parent_start[e + 1]) of hier_parent / hier_rest. */
+     * vertices that attachments reach, by level (the longest chain of parents: stretch
+     * neighbours a hop nearer the nearest attached vertex, or as near and above; hierarchy.c);
+     * entry e is vertex hier_vertex[e], its stretch springs to its parents are
+     * [hier_parent_start[e], hier_parent_start[e + 1]) of hier_parent / hier_rest. */
     int hier_levels;
     int32_t *hier_level_start; /* [hier_levels + 1] entries; level l is entries [start[l], ..) */
     int32_t *hier_vertex;
@@ -191,6 +192,9 @@ void sim_garment_tube_triangles(int32_t *t, int cols, int rows);
 /* Cloth construction (cloth.c). */
 int sim_cloth_init(sim_cloth *c, const sim_garment *g, const sim_fabric *f, sim_reject *why);
 void sim_cloth_free(sim_cloth *c);
+/* The strain-limit hierarchy's arrays from the attachments and the stretch springs by vertex
+   (hierarchy.c); 0 or -SIM_ERR_NO_MEMORY (sim_cloth_free frees what was made). */
+int sim_cloth_hierarchy(sim_cloth *c);
 /* Metrics (metrics.c): stretch strain max and p99; scratch holds ns floats. */
 void sim_strain_stats(const sim_cloth *c, float *scratch, float *max_strain, float *p99_strain);
 

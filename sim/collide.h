@@ -40,6 +40,9 @@ typedef struct sim_collider_desc {
        1 = the motion along the triangle's normal whole, along its surface only up to friction
        times that (Coulomb: the tryon solver; sim_collider_feature_points) */
     int carry_coulomb;
+    /* Contact response: 0 = the push may become velocity (seed 000; the dressing); 1 = inelastic,
+       only the point's own approach may (the tryon solver and its OpenCL twin; resolve.c) */
+    int inelastic;
 } sim_collider_desc;
 
 /* NULL on failure with the reason in err. */
@@ -82,7 +85,8 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
 /* Push points out to thickness along the contact normal (face normal, or the pseudo-normal at
    edges and vertices of the cached triangle), then friction: cancel the tangential motion
    relative to the body (x - x_prev) up to friction * the normal correction. Never pulls a point
-   towards the body. */
+   towards the body. Inelastic (desc.inelastic): x_prev moves with the push beyond the point's own
+   approach, so depth the body made is corrected without becoming velocity. */
 void sim_collider_resolve(const sim_collider *c, float (*x)[4], float (*x_prev)[4], int begin,
                           int end);
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "body_intake.h"
+#include "budget.h"
 #include "bodyfit.h"
 #include "bus.h"
 #include "garments.h"
@@ -28,6 +29,13 @@
  * supersede it); the body stage takes about 25 ms of the 50 ms from capture to cloth at p95
  * (docs/mirror.md, "Figures"): the rest, 25 ms, less the publishing. */
 #define SIM_MAIN_FRAME_BUDGET_MS 20.0f
+/* --deadline's default, ms from capture (--frame-budget auto): the goal is capture -> cloth
+ * <= 50 ms at p95; 5 ms of it are left for a frame whose fixed part (no settle round) overruns
+ * and for the wait for a core. */
+#define SIM_MAIN_DEADLINE_MS 45.0f
+/* A body stamped this soon after the last frame was published was queued while the sim worked:
+ * its arrival time is not known (sim_pace_body). */
+#define SIM_MAIN_QUEUED_US 1000
 
 static volatile sig_atomic_t stop_requested;
 
@@ -79,9 +87,19 @@ typedef struct app {
     char channel_cloth[BUS_CHANNEL_MAX];
     sim_outfit outfit, wanted, before; /* worn, asked for over CONTROL (sim/outfit.c), last */
     int want_switch, controls_refused;
-    int32_t topology; /* CLOTH's topology_id: a new one for every garment made */
-    int tris_due;     /* the garment is new: its triangles go with the next CLOTH */
-    FILE *stats;      /* --stats FILE: a CSV line of sim_frame_stats per simulated body */
+    int32_t topology;  /* CLOTH's topology_id: a new one for every garment made */
+    int tris_due;      /* the garment is new: its triangles go with the next CLOTH */
+    FILE *stats;       /* --stats FILE: a CSV line of sim_frame_stats per simulated body */
+    int budget_auto;   /* --frame-budget auto: each body's budget from the pace (budget.c) */
+    float deadline_ms; /* --deadline: capture -> cloth, for --frame-budget auto (0: none) */
+    sim_pace pace;
+    int64_t published_us;  /* wall clock: the last frame's CLOTH and TIMING went out */
+    int over_budget;       /* frames whose sim_step took longer than their budget */
+    float settle_floor_mm; /* --settle-floor: a body that moved less gets no settle round */
+    int settle_skipped;    /* bodies that did */
+    float *moved_xyz;      /* --stats, --settle-floor: the last simulated body, for its motion */
+    float *moved_scratch;
+    int moved_nv;
 } app;
 
 /* --backend auto: where the device OpenCL would open is a GPU, the faster backend on the first
@@ -292,6 +310,8 @@ static void on_body(const char *channel, const void *m, void *user)
     if (p->num_pose)
         memcpy(p->pose, b->pose, sizeof p->pose);
     p->have = 1;
+    sim_pace_body(&a->pace, b->seq, b->utime_capture, received,
+                  received - a->published_us > SIM_MAIN_QUEUED_US);
 }
 
 /* CONTROL: the garment to wear next. It is made on the next body; the pipeline never stops. */
@@ -353,6 +373,25 @@ static int shape_moved(const app *a, const pending_body *b)
     return 0;
 }
 
+/* --stats: the median vertex's motion since the last simulated body, mm; -1 for the first body
+ * and after the vertex count changed (or without memory). */
+static float body_moved(app *a, const pending_body *b)
+{
+    float mm = -1.0f;
+    if (a->moved_xyz && a->moved_nv == b->nv)
+        mm = sim_body_motion_mm(a->moved_xyz, b->xyz, b->nv, a->moved_scratch);
+    if (a->moved_nv != b->nv) {
+        free(a->moved_xyz);
+        free(a->moved_scratch);
+        a->moved_xyz = malloc((size_t)b->nv * 3 * sizeof *a->moved_xyz);
+        a->moved_scratch = malloc((size_t)b->nv * sizeof *a->moved_scratch);
+        a->moved_nv = a->moved_xyz && a->moved_scratch ? b->nv : 0;
+    }
+    if (a->moved_nv)
+        memcpy(a->moved_xyz, b->xyz, (size_t)b->nv * 3 * sizeof *a->moved_xyz);
+    return mm;
+}
+
 static void step_body(app *a)
 {
     pending_body *b = &a->next;
@@ -393,8 +432,21 @@ static void step_body(app *a)
             stop_requested = 1;
         return;
     }
+    float budget = a->desc.frame_budget_ms;
+    if (a->budget_auto)
+        budget = sim_pace_budget_ms(&a->pace, b->utime_capture, bus_now_wall_us(), a->deadline_ms,
+                                    SIM_MAIN_FRAME_BUDGET_MS);
+    float moved = a->stats || a->settle_floor_mm > 0.0f ? body_moved(a, b) : -1.0f;
+    int still = moved >= 0.0f && moved < a->settle_floor_mm;
+    if (still) { /* the fitter's noise: nothing to settle */
+        budget = SIM_PACE_MIN_MS;
+        a->settle_skipped++;
+    }
+    sim_set_frame_budget(a->sim, budget);
     sim_frame_stats st;
+    int64_t cpu0 = bus_now_cpu_us(); /* every OpenMP thread's */
     int r = sim_step(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &st, &why);
+    float cpu_ms = (float)(bus_now_cpu_us() - cpu0) / 1000.0f;
     if (r < 0 && r != -SIM_ERR_DIVERGED) {
         fprintf(stderr, "tryon-sim: body %d rejected: %s: %s; frame skipped\n", b->seq,
                 sim_error_name(r), why.detail);
@@ -408,12 +460,18 @@ static void step_body(app *a)
     if (r == -SIM_ERR_DIVERGED)
         fprintf(stderr, "tryon-sim: body %d: %s; publishing the last good cloth\n", b->seq,
                 why.detail);
+    a->over_budget += budget > 0.0f && st.ms_total > budget && !still;
+    bus_timing_add(&t, "cpu", cpu_ms);
+    bus_timing_add(&t, "budget", budget);
+    int64_t t_pub = bus_now_mono_us();
     publish(a, b, &st, &t);
+    a->published_us = bus_now_wall_us();
+    sim_pace_published(&a->pace, (float)(bus_now_mono_us() - t_pub) / 1000.0f);
     if (a->stats)
-        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f\n", b->seq, st.state,
-                st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
+        fprintf(a->stats, "%d,%d,%d,%d,%d,%d,%d,%.4f,%.2f,%.2f,%.2f,%.2f,%.3f,%.2f\n", b->seq,
+                st.state, st.settle_rounds, st.retries, st.strain_retries, st.iterations_used,
                 st.feature_points_moved, st.max_strain, st.max_pen_mm, st.ms_iterations,
-                st.ms_total);
+                st.ms_total, cpu_ms, budget, moved);
     a->frames_done++;
     if (a->diverged_run >= SIM_MAIN_DIVERGED_REBUILD) {
         fprintf(stderr,
@@ -431,10 +489,12 @@ static int usage(FILE *f, int rc)
             "                 [--size S|M|L]\n"
             "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
-            "                 [--frame-budget MS] [--stats FILE]\n"
+            "                 [--frame-budget auto|MS] [--deadline MS] [--settle-floor MM]\n"
+            "                 [--stats FILE]\n"
             "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
             "          strain retries, iterations, feature points moved, max strain, max\n"
-            "          penetration mm, iterations ms, total ms)\n"
+            "          penetration mm, iterations ms, total ms, CPU ms (all threads), budget ms,\n"
+            "          the body's median vertex motion since the last simulated body, mm)\n"
             "  --backend auto (default): where the OpenCL device is a GPU, the faster of C and\n"
             "          OpenCL on the first garment, measured; OpenCL where TRYON_CL_DEVICE names\n"
             "          a device; else C. opencl falls back to C when no device opens\n"
@@ -443,9 +503,16 @@ static int usage(FILE *f, int rc)
             "          latency stays one frame; all: every body, in order (replays, tests)\n"
             "  --retry-budget MS: a frame missing the strain goals is done again with more\n"
             "          iterations only while the frame fits in MS (0, default: always)\n"
-            "  --frame-budget MS: each body's deadline (default 20; 0: none): settle rounds and\n"
-            "          strain retries stop when it is spent, the cloth is published as it stands\n"
-            "          (state settling, its strain measured)\n"
+            "  --frame-budget auto|MS: each body's time (0: none): settle rounds and strain\n"
+            "          retries stop when it is spent, the cloth is published as it stands (state\n"
+            "          settling, its strain measured). auto (default): until the next body's\n"
+            "          arrival (learnt from the bodies' capture times and arrivals) or --deadline\n"
+            "          after capture, whichever is first (20 ms until the pace is known, and\n"
+            "          for a body captured over 1 s ago: a log played again)\n"
+            "  --deadline MS: capture -> cloth published, for --frame-budget auto (default 45;\n"
+            "          0: only the next body's arrival)\n"
+            "  --settle-floor MM: a body whose median vertex moved less than MM since the last\n"
+            "          simulated one gets no settle round nor strain retry (0, default: off)\n"
             "  --frames N: exit after N bodies received (simulated, superseded or skipped)\n"
             "  --hem M: the generated shirt's hem M metres below the pelvis joint (0, default:\n"
             "          0.12, at the hips; 0.25: a tunic over the tops of the thighs)\n"
@@ -461,7 +528,7 @@ static int usage(FILE *f, int rc)
     return rc;
 }
 
-/* A duration in ms, 0 .. 1000 (a body frame's budget): 0, or -1 for anything else. */
+/* A value 0 .. 1000 (a body frame's budget in ms, a motion in mm): 0, or -1 for anything else. */
 static int parse_ms(const char *v, float *ms)
 {
     char *end;
@@ -476,6 +543,8 @@ static int parse(app *a, int argc, char **argv)
 {
     a->desc = sim_default_desc();
     a->desc.frame_budget_ms = SIM_MAIN_FRAME_BUDGET_MS; /* live: on time (the bench: no budget) */
+    a->budget_auto = 1;
+    a->deadline_ms = SIM_MAIN_DEADLINE_MS;
     a->backend_auto = 1; /* the product runs on the GPU where there is one (auto_backend) */
     a->verts = 7000;
     a->size = SIM_SIZE_M;
@@ -510,7 +579,13 @@ static int parse(app *a, int argc, char **argv)
             a->desc.follow = (float)atof(v);
         else if (!strcmp(o, "--retry-budget") && atof(v) >= 0.0)
             a->desc.retry_budget_ms = (float)atof(v);
+        else if (!strcmp(o, "--frame-budget") && !strcmp(v, "auto"))
+            a->budget_auto = 1;
         else if (!strcmp(o, "--frame-budget") && parse_ms(v, &a->desc.frame_budget_ms) == 0)
+            a->budget_auto = 0;
+        else if (!strcmp(o, "--deadline") && parse_ms(v, &a->deadline_ms) == 0)
+            ;
+        else if (!strcmp(o, "--settle-floor") && parse_ms(v, &a->settle_floor_mm) == 0)
             ;
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
@@ -519,7 +594,8 @@ static int parse(app *a, int argc, char **argv)
         else if (!strcmp(o, "--stats") && !a->stats && (a->stats = fopen(v, "w")))
             fprintf(a->stats,
                     "body,state,settle_rounds,retries,strain_retries,iterations,"
-                    "feature_points_moved,max_strain,max_pen_mm,ms_iterations,ms_total\n");
+                    "feature_points_moved,max_strain,max_pen_mm,ms_iterations,ms_total,cpu_ms,"
+                    "budget_ms,body_move_mm\n");
         else {
             fprintf(stderr, "tryon-sim: unknown option or bad value: %s %s\n", o, v);
             return -1;
@@ -581,11 +657,17 @@ int main(int argc, char **argv)
             stop_requested = 1;
     }
     const bus_stats *bs = bus_sub_stats(sub);
+    char budget_name[64];
+    if (a.budget_auto)
+        snprintf(budget_name, sizeof budget_name, "auto, deadline %g ms", (double)a.deadline_ms);
+    else
+        snprintf(budget_name, sizeof budget_name, "%g ms", (double)a.desc.frame_budget_ms);
     fprintf(stderr,
             "tryon-sim: %d frames simulated, %d superseded by a newer body, %d skipped, %d "
-            "refused, %llu BODY messages dropped; %d published settling (--frame-budget %g ms)\n",
+            "refused, %llu BODY messages dropped; %d published settling, %d over their budget "
+            "(--frame-budget %s), %d without settle rounds (--settle-floor %g mm)\n",
             a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected,
-            a.settling, (double)a.desc.frame_budget_ms);
+            a.settling, a.over_budget, budget_name, a.settle_skipped, (double)a.settle_floor_mm);
     int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,
@@ -599,5 +681,7 @@ int main(int argc, char **argv)
         fclose(a.stats);
     free(a.xyz);
     free(a.next.xyz);
+    free(a.moved_xyz);
+    free(a.moved_scratch);
     return failed ? 1 : 0;
 }

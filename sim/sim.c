@@ -326,6 +326,7 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
         .reach_m = SIM_CONTACT_MARGIN,
         .max_cloth = nv,
         .carry_coulomb = d.solver == SIM_SOLVER_TRYON, /* the seed keeps its Eq. 2 */
+        .inelastic = d.solver == SIM_SOLVER_TRYON,
     };
     s->collider = sim_collider_create(&cd, err, sizeof err);
     if (!s->collider) {

@@ -11,8 +11,10 @@
 # MIRROR_FIG_BODY (bodyfit: all four stages real; truth: the recording's true body),
 # MIRROR_FIG_RUNS (3), MIRROR_FIG_SIM_WORK (1; 0 skips the replays), MIRROR_FIG_CAUSE (1; 0 skips
 # the replays of the walk fitted with and without the pose filter and of its true bodies),
-# MIRROR_FIG_BUDGETS ("default 0": tryon-sim's --frame-budget for each run, alternated in every
-# round; "default" is tryon-sim's own, 0 none, as before the budget).
+# MIRROR_FIG_BUDGETS ("default 20": tryon-sim's --frame-budget for each run, alternated in every
+# round; "default" is tryon-sim's own, auto since the deadline per body; auto:MS the same with
+# --deadline MS; 20 the fixed budget before it; 0 none, as before any budget). The replays (--queue all, bodies stamped long ago) give
+# "default" the fixed 20 ms: docs/figures/latency_figures.sh replays at the camera's pace.
 set -euo pipefail
 build=${1:?usage: mirror_figures.sh BUILD_DIR [--headless-only]}
 mode=${2:-}
@@ -22,7 +24,7 @@ frames=${MIRROR_FIG_FRAMES:-150}
 verts=${MIRROR_FIG_BODY_VERTS:-6000}
 backend=${MIRROR_FIG_BACKEND:-c}
 runs=${MIRROR_FIG_RUNS:-3}
-budgets=${MIRROR_FIG_BUDGETS:-default 0}
+budgets=${MIRROR_FIG_BUDGETS:-default 20}
 export LP_NUM_THREADS=${LP_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 
 echo "== one frame, headless (tryon-bench-mirror, LP_NUM_THREADS=$LP_NUM_THREADS)"
@@ -45,7 +47,9 @@ sim_exe=$(realpath "$(bin tryon-sim)")
 bin_dir() {
     [ "$1" = default ] && return
     mkdir -p "$out/bin_$1"
-    printf '#!/bin/sh\nexec "%s" --frame-budget %s "$@"\n' "$sim_exe" "$1" >"$out/bin_$1/tryon-sim"
+    local opt="--frame-budget ${1%%:*}"
+    [ "${1#*:}" = "$1" ] || opt="$opt --deadline ${1#*:}"
+    printf '#!/bin/sh\nexec "%s" %s "$@"\n' "$sim_exe" "$opt" >"$out/bin_$1/tryon-sim"
     chmod +x "$out/bin_$1/tryon-sim"
     echo "$out/bin_$1"
 }
@@ -93,7 +97,8 @@ replay() {
     bodies=$(cat "$1"/tryon-bodyfit.log "$1"/tryon-truth.log 2>/dev/null |
         sed -n 's/.*published \([0-9]*\) bodies.*/\1/p' | tail -n 1 || true)
     url="udpm://239.255.76.67:$((7700 + RANDOM % 200))?ttl=0&recv_buf_size=8388608"
-    [ "$2" = default ] || opt=(--frame-budget "$2")
+    [ "$2" = default ] || opt=(--frame-budget "${2%%:*}")
+    [ "${2#*:}" = "$2" ] || opt+=(--deadline "${2#*:}")
     echo "== tryon-sim --frame-budget $2"
     TRYON_LCM_URL=$url TRYON_CHANNEL_PREFIX=$prefix timeout 300 "$(bin tryon-sim)" --backend "$backend" \
         --queue all --frames "$bodies" --stats "$out/sim.csv" "${opt[@]}" 2>"$out/sim.log" &

@@ -1,6 +1,6 @@
-/* The Cusick drape test (a stiff fabric drapes less than a soft one, the coefficient is a share
- * of the hanging ring), the fit per body region, size picking (a bigger body never picks a
- * smaller size than a smaller body) and the stability map's two ends. */
+/* The Cusick drape test (each fabric preset in its band, a stiff fabric drapes less than a soft
+ * one, the coefficient is a share of the hanging ring), the fit per body region, size picking (a
+ * bigger body never picks a smaller size than a smaller body) and the stability map's two ends. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -32,18 +32,25 @@ static float drape(const char *fabric, int iterations)
         fail_msg("drape %s: %s", fabric, why.detail);
     printf("drape %s (%d sweeps): %.3f, lowest point %.1f mm below, %d vertices\n", fabric,
            iterations, r.coefficient, r.drop_m * 1e3f, r.vertices);
-    /* a share of the hanging ring; it hangs (no longer flat) but not below its own width */
+    /* a share of the hanging ring; it hangs (no longer flat) but not below its own width (60 mm,
+     * stretched at most the fabric's max_strain, laid 3 mm above the support) */
     assert_true(r.coefficient >= 0.0f && r.coefficient <= 1.0f);
-    assert_true(r.drop_m > 0.005f && r.drop_m < 0.061f);
+    assert_true(r.drop_m > 0.005f && r.drop_m < 0.060f * (1 + d.fabric->max_strain) + 0.003f);
     return r.coefficient;
 }
 
 static void test_stiff_fabric_drapes_less(void **state)
 {
     (void)state;
-    /* the dressing's own setting, one sweep a step (docs/garments.md: denim 0.71, silk 0.66 at
-     * this spacing) */
-    assert_true(drape("denim", 1) > drape("silk", 1) + 0.03f);
+    /* the dressing's own setting (3 sweeps a step) at a coarse mesh: each preset in its
+     * published band (docs/garments.md, "Drape test"; tryon-bench-dress --drape) and in order */
+    float silk = drape("silk", 0), jersey = drape("jersey", 0);
+    float cotton = drape("cotton", 0), denim = drape("denim", 0);
+    assert_true(silk >= 0.20f && silk <= 0.45f);
+    assert_true(jersey >= 0.25f && jersey <= 0.50f);
+    assert_true(cotton >= 0.45f && cotton <= 0.75f);
+    assert_true(denim >= 0.70f && denim <= 0.95f);
+    assert_true(silk < jersey && jersey < cotton && cotton < denim);
 }
 
 static void test_drape_refuses_bad_geometry(void **state)

@@ -219,6 +219,99 @@ static void test_control_switches_garment_and_ctrl_c_stops_all(void **state)
     finish(&r, st, 0);
 }
 
+static void expect_refusal(char *const argv[], char *const env[], int status, const char *text);
+
+/* tryon pace: the recorded bodies as they come, stamped as captured now. */
+typedef struct paced {
+    int bodies, in_order, spaced;
+    int32_t last_seq;
+    int64_t first_capture, last_capture, late_us;
+} paced;
+
+static void on_paced_body(const char *ch, const void *m, void *user)
+{
+    (void)ch;
+    const tryon_body_t *b = m;
+    paced *p = user;
+    int64_t now = bus_now_wall_us();
+    if (p->bodies == 0)
+        p->first_capture = b->utime_capture;
+    else {
+        p->in_order += b->seq > p->last_seq;
+        /* 30 fps: 33,333 us between two captures */
+        p->spaced += b->utime_capture - p->last_capture == 33333;
+    }
+    if (now - b->utime_capture > p->late_us)
+        p->late_us = now - b->utime_capture;
+    p->last_seq = b->seq;
+    p->last_capture = b->utime_capture;
+    p->bodies++;
+}
+
+/* The session's BODY stream played at 30 fps by `tryon pace`: every body, in order, each
+ * stamped as captured now, 1/30 s apart, and received within a second of that stamp (its
+ * recorded latency and the bus). */
+static void pace_bodies(const char *log, int expected)
+{
+    char err[256], ch_body[BUS_CHANNEL_MAX];
+    lcm_t *lcm = bus_open(NULL, err, sizeof err);
+    assert_non_null(lcm);
+    bus_channel(BUS_CHANNEL_BODY, ch_body, sizeof ch_body);
+    paced p = {0};
+    bus_sub *sub = bus_subscribe(lcm, ch_body, BUS_BODY, on_paced_body, &p);
+    int64_t start = bus_now_wall_us();
+    char *argv[] = {TRYON_EXE, "pace", (char *)log, "--fps", "30", NULL};
+    pid_t pid = ts_spawn(argv, NULL);
+    int64_t end = bus_now_mono_us() + 60 * 1000000LL;
+    while (p.bodies < expected && bus_now_mono_us() < end)
+        lcm_handle_timeout(lcm, 50);
+    assert_int_equal(ts_wait(pid, 60000), 0); /* a loaded machine, sanitizers */
+    bus_unsubscribe(lcm, sub);
+    lcm_destroy(lcm);
+    print_message("tryon pace: %d bodies, %d in order, %d spaced 1/30 s, the latest %.1f ms after "
+                  "its stamp\n",
+                  p.bodies, p.in_order, p.spaced, (double)p.late_us / 1e3);
+    assert_int_equal(p.bodies, expected);
+    assert_int_equal(p.in_order, expected - 1);
+    assert_int_equal(p.spaced, expected - 1);
+    assert_true(p.first_capture >= start && p.late_us >= 0 && p.late_us < 1000000);
+}
+
+/* tryon path on the session: the path to the sim over at least one frame of the 8, each segment
+ * with its p50, p95 and mean, the means adding up to the total's (each frame's total is the sum
+ * of its segments); then the path to the mirror. */
+static void path_adds_up(const char *log, const char *txt)
+{
+    char *argv[] = {TRYON_EXE, "path", (char *)log, NULL};
+    assert_int_equal(ts_wait(ts_spawn_out(argv, NULL, txt), 60000), 0);
+    char *said = ts_read_file(txt);
+    assert_non_null(said);
+    print_message("%s", said);
+    int frames = 0;
+    const char *at = strstr(said, "== capture -> sim, ");
+    int ok = at && sscanf(at, "== capture -> sim, %d frames", &frames) == 1 && frames >= 1 &&
+             frames <= 8;
+    double sum = 0.0, total = -1.0;
+    for (const char *line = at ? strchr(at, '\n') : NULL; ok && line && line[1] == ' ';
+         line = strchr(line + 1, '\n')) {
+        double p50, p95, mean;
+        const char *nums = line + 1 + 34; /* after the segment's name */
+        ok = strlen(line) > 35 && sscanf(nums, "%lf %lf %lf", &p50, &p95, &mean) == 3 &&
+             p50 <= p95 + 1e-9;
+        if (strstr(line, "capture -> sim finished") &&
+            strstr(line, "capture -> sim finished") < strchr(line + 1, '\n'))
+            total = mean;
+        else
+            sum += mean;
+    }
+    ok = ok && total > 0.0 && sum > total - 0.5 && sum < total + 0.5 &&
+         strstr(said, "== capture -> mirror, ");
+    free(said);
+    if (!ok)
+        fail_msg("tryon path: no path to the sim whose segments add up (%.1f against %.1f ms)", sum,
+                 total);
+}
+
 static void test_recorded_session_replays(void **state)
 {
     (void)state;
@@ -244,6 +337,12 @@ static void test_recorded_session_replays(void **state)
     free(said);
     snprintf(png, sizeof png, "%s/frame_00000.png", frames); /* the replay drew the garment */
     assert_int_equal(access(png, R_OK), 0);
+    pace_bodies(log, 8); /* the sample's 8 frames, each a body */
+    path_adds_up(log, txt);
+    char *no_log[] = {TRYON_EXE, "pace", png, NULL};
+    expect_refusal(no_log, NULL, 2, "not an LCM log with BODY messages");
+    char *bad_fps[] = {TRYON_EXE, "pace", log, "--fps", "0", NULL};
+    expect_refusal(bad_fps, NULL, 2, "--fps");
     ts_remove_dir(dir);
 }
 

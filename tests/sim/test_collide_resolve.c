@@ -68,6 +68,46 @@ static void test_collide_resolve_pushes_out_and_never_pulls_in(void **state)
     sim_collider_destroy(c);
 }
 
+/* The inelastic response (sim_collider_desc.inelastic): over the square, frictionless, a point
+ * found 20 mm deep without moving in the step (the body moved over it) goes out to the thickness
+ * with no velocity (x_prev moved with it), where the plain push leaves it flying out at 24 mm a
+ * step; a point that came 2 mm into the surface in the step stops (the plain push bounces it out
+ * at 3 mm a step); one that was already leaving keeps its outward 1 mm a step. */
+static void test_collide_inelastic_response_adds_no_velocity(void **state)
+{
+    (void)state;
+    char err[128];
+    for (int inelastic = 0; inelastic <= 1; inelastic++) {
+        sim_collider *c = sim_collider_create(&(sim_collider_desc){.max_vertices = 4,
+                                                                   .max_triangles = 2,
+                                                                   .thickness_m = THICK,
+                                                                   .max_cloth = N,
+                                                                   .inelastic = inelastic},
+                                              err, sizeof err);
+        assert_non_null(c);
+        assert_int_equal(sim_collider_set_body(c, square, 4, square_tris, 2), 0);
+        /* deep and still; approaching 2 mm a step from 1 mm deep; leaving 1 mm a step from 2 mm
+           deep */
+        float x[3][4] = {
+            {0.1f, -0.020f, 0.1f, 1.0f}, {0.2f, -0.001f, 0.2f, 1.0f}, {0.3f, -0.002f, 0.3f, 1.0f}};
+        float xp[3][4] = {
+            {0.1f, -0.020f, 0.1f, 1.0f}, {0.2f, 0.001f, 0.2f, 1.0f}, {0.3f, -0.003f, 0.3f, 1.0f}};
+        sim_collider_find_contacts(c, (const float(*)[4])x, 0, 3);
+        sim_collider_resolve(c, x, xp, 0, 3);
+        for (int i = 0; i < 3; i++)
+            assert_float_equal(x[i][1], THICK, EPS_M); /* out to the thickness either way */
+        if (!inelastic) {
+            assert_float_equal(x[0][1] - xp[0][1], 0.024f, EPS_M);
+            assert_float_equal(x[1][1] - xp[1][1], 0.003f, EPS_M);
+        } else {
+            assert_float_equal(x[0][1] - xp[0][1], 0.0f, EPS_M);
+            assert_float_equal(x[1][1] - xp[1][1], 0.0f, EPS_M);
+            assert_float_equal(x[2][1] - xp[2][1], 0.001f, EPS_M);
+        }
+        sim_collider_destroy(c);
+    }
+}
+
 static void test_collide_friction_bounded_by_push(void **state)
 {
     (void)state;
@@ -468,6 +508,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_collide_resolve_pushes_out_and_never_pulls_in),
+        cmocka_unit_test(test_collide_inelastic_response_adds_no_velocity),
         cmocka_unit_test(test_collide_friction_bounded_by_push),
         cmocka_unit_test(test_collide_penetration_matches_analytic_sphere),
         cmocka_unit_test(test_collide_resolve_clears_sphere_shell),

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "body_intake.h"
@@ -93,10 +94,49 @@ static void test_bodies_over_the_limits_are_refused(void **state)
     sim_topologies_free(&t);
 }
 
+/* A body's motion is its median vertex's: 5 of 9 vertices moved 1 mm and 4 moved 100 mm (an arm
+ * swinging) read 1 mm; a still body reads 0. */
+static void test_body_motion_is_the_median_vertex(void **state)
+{
+    (void)state;
+    enum { NV = 9 };
+    float before[NV * 3] = {0}, now[NV * 3] = {0}, scratch[NV];
+    assert_true(sim_body_motion_mm(before, now, NV, scratch) == 0.0f);
+    for (int i = 0; i < NV; i++)
+        now[3 * i + (i % 3)] = i < 5 ? 0.001f : -0.1f;
+    float mm = sim_body_motion_mm(before, now, NV, scratch);
+    assert_true(mm > 0.999f && mm < 1.001f);
+    assert_true(sim_body_motion_mm(before, now, 0, scratch) == 0.0f);
+}
+
+static int by_value(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The same as a sort's middle element on 1,001 vertices moved along x by scattered amounts, with
+ * repeats (every value twice or more). */
+static void test_body_motion_matches_a_sort(void **state)
+{
+    (void)state;
+    enum { NV = 1001 };
+    static float before[NV * 3], now[NV * 3], scratch[NV], sorted[NV];
+    for (int i = 0; i < NV; i++) {
+        now[3 * i] = 0.001f * (float)((i * 7919) % 400); /* 0..399 mm */
+        sorted[i] = 1000.0f * now[3 * i];
+    }
+    qsort(sorted, NV, sizeof *sorted, by_value);
+    float mm = sim_body_motion_mm(before, now, NV, scratch);
+    assert_true(mm == sorted[NV / 2]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lists_are_kept_and_found_by_id),
+        cmocka_unit_test(test_body_motion_is_the_median_vertex),
+        cmocka_unit_test(test_body_motion_matches_a_sort),
         cmocka_unit_test(test_strays_cannot_evict_the_live_list),
         cmocka_unit_test(test_a_stale_live_list_gives_way_within_the_bound),
         cmocka_unit_test(test_bodies_over_the_limits_are_refused),

@@ -162,10 +162,155 @@ static void test_sim_budget_never_reached_changes_nothing(void **state)
     sim_garment_free(&g);
 }
 
+/* The pace learnt from the bodies: the camera's period from capture times over seq steps (a
+ * dropped frame skips a seq), the arrival from bodies that found the sim waiting only; the
+ * budget ends the frame, publishing included, by the next body's arrival or the deadline. */
+static void test_pace_deadline_from_the_bodies(void **state)
+{
+    (void)state;
+    sim_pace p = {0};
+    const int64_t t0 = 1700000000000000;                                /* wall clock, us */
+    assert_true(sim_pace_budget_ms(&p, t0, t0, 45.0f, 20.0f) == 20.0f); /* nothing learnt */
+    sim_pace_body(&p, 0, t0, t0 + 20000, 1);
+    sim_pace_body(&p, 2, t0 + 66000, t0 + 86000, 1);  /* seq 1 dropped: 33 ms a frame */
+    sim_pace_body(&p, 3, t0 + 99000, t0 + 189000, 0); /* queued: 90 ms not learnt */
+    assert_float_equal(p.period_ms, 33.0f, 1e-3f);
+    assert_float_equal(p.arrive_ms, 20.0f, 1e-3f);
+    sim_pace_published(&p, 1.0f);
+    /* started 20 ms after capture: the deadline (45) is before the next arrival (53) */
+    assert_float_equal(sim_pace_budget_ms(&p, t0, t0 + 20000, 45.0f, 20.0f), 24.0f, 1e-3f);
+    assert_float_equal(sim_pace_budget_ms(&p, t0, t0 + 20000, 0.0f, 20.0f), 32.0f, 1e-3f);
+    assert_float_equal(sim_pace_budget_ms(&p, t0, t0 + 20000, 60.0f, 20.0f), 32.0f, 1e-3f);
+    /* started past the deadline: the shortest frame, never 0 (no budget at all to sim_step) */
+    assert_true(sim_pace_budget_ms(&p, t0, t0 + 60000, 45.0f, 20.0f) == SIM_PACE_MIN_MS);
+    /* a body captured 2 s ago (a log played again): the fallback */
+    assert_true(sim_pace_budget_ms(&p, t0, t0 + 2000000, 45.0f, 20.0f) == 20.0f);
+    /* a restarted body stage (seq back to 0), a paused recording: no period learnt from them */
+    sim_pace_body(&p, 0, t0 + 132000, t0 + 152000, 1);
+    sim_pace_body(&p, 1, t0 + 5000000, t0 + 5020000, 1);
+    assert_float_equal(p.period_ms, 33.0f, 1e-3f);
+    sim_pace_body(&p, 2, t0 + 5033000, t0 + 5033000 - 5000, 1); /* a clock step: not learnt */
+    assert_float_equal(p.arrive_ms, 20.0f, 1e-3f);
+}
+
+/* A sim stage on a timeline, driven by budget.c: bodies captured at 30 fps arrive after a fitting
+ * latency that jitters (10-30 ms); a frame costs FIXED_MS plus ROUND_MS for each round, and wants
+ * every settle round it may run (the walk's worst case). As tryon-sim's loop: an idle sim takes
+ * the body that arrives, a busy one takes the newest on finishing and the older are superseded.
+ * budget_ms > 0: that budget every frame; 0: the pace's deadline (--frame-budget auto). */
+enum { PACE_BODIES = 600, PACE_ITERS = 25 };
+#define FIXED_MS   12.0
+#define ROUND_MS   0.4
+#define TAIL_MS    0.2
+#define PUBLISH_MS 0.5
+#define PERIOD_MS  (1000.0 / 30.0)
+
+typedef struct pace_run {
+    int superseded, simulated, over_deadline, rounds;
+    double latency_max_ms, wait_max_ms; /* capture -> published; arrival -> frame started */
+} pace_run;
+
+static double fit_latency_ms(int k)
+{
+    return 10.0 + (double)((k * 7919) % 21); /* 10..30 ms, every value, no order */
+}
+
+static int64_t us(double ms)
+{
+    return (int64_t)llround(ms * 1000.0);
+}
+
+/* One frame of body k started at now: its cost, learnt by the budget as sim.c's driver does. */
+static double frame_ms(sim_budget *b, float budget_ms, double spent_ms, int *rounds)
+{
+    int tests = sim_budget_settle_tests(b, budget_ms, spent_ms, PACE_ITERS, FULL);
+    *rounds = tests * SIM_SETTLE_BATCH;
+    int all = PACE_ITERS + 1 + SIM_POST_ROUNDS + *rounds;
+    sim_frame_stats st = {.ms_feature_points = (float)(FIXED_MS / 2),
+                          .ms_contacts = (float)(FIXED_MS / 2),
+                          .ms_iterations = (float)(ROUND_MS * all),
+                          .settle_rounds = *rounds};
+    sim_budget_learn_attempt(b, &st, PACE_ITERS);
+    sim_frame_stats tail = {.ms_metrics = (float)TAIL_MS};
+    sim_budget_learn_tail(b, &tail);
+    return FIXED_MS + ROUND_MS * all + TAIL_MS;
+}
+
+static pace_run run_stage(float budget_ms, float deadline_ms)
+{
+    sim_budget b = {0};
+    sim_pace p = {0};
+    pace_run r = {0};
+    double now = 0.0, published = -1.0;
+    int next = 0, pending = -1;
+    while (next < PACE_BODIES || pending >= 0) {
+        if (pending < 0 && now < next * PERIOD_MS + fit_latency_ms(next))
+            now = next * PERIOD_MS + fit_latency_ms(next); /* idle: woken by the next body */
+        while (next < PACE_BODIES && next * PERIOD_MS + fit_latency_ms(next) <= now) {
+            r.superseded += pending >= 0;
+            pending = next;
+            sim_pace_body(&p, next, us(next * PERIOD_MS), us(now), now - published > 1.0);
+            next++;
+        }
+        int k = pending;
+        pending = -1;
+        if (k > 1 && now - (k * PERIOD_MS + fit_latency_ms(k)) > r.wait_max_ms)
+            r.wait_max_ms = now - (k * PERIOD_MS + fit_latency_ms(k));
+        double capture = k * PERIOD_MS, start = now;
+        float budget = budget_ms > 0.0f
+                           ? budget_ms
+                           : sim_pace_budget_ms(&p, us(capture), us(now), deadline_ms, 20.0f);
+        int rounds;
+        now += frame_ms(&b, budget, 0.0, &rounds) + PUBLISH_MS;
+        sim_pace_published(&p, (float)PUBLISH_MS);
+        published = now;
+        r.simulated++;
+        r.rounds += rounds;
+        /* a frame with time for its fixed part ends by its deadline */
+        double fixed = FIXED_MS + ROUND_MS * (PACE_ITERS + 1 + SIM_POST_ROUNDS) + TAIL_MS;
+        if (budget_ms <= 0.0f && k > 1 && start + fixed + PUBLISH_MS <= capture + deadline_ms &&
+            now > capture + deadline_ms + 1e-3)
+            r.over_deadline++;
+        if (now - capture > r.latency_max_ms && k > 1)
+            r.latency_max_ms = now - capture;
+    }
+    return r;
+}
+
+/* The stage costs fit the frame interval (a frame without settle rounds: 23.5 ms of 33): with
+ * the pace's deadline no body is superseded, each frame with time for its fixed part ends by
+ * its deadline, and the frames still get settle rounds. A fixed budget of the frame interval,
+ * blind to the publishing and to a late start, falls behind on the same timeline: bodies
+ * superseded, and a longer wait and latency. */
+static void test_pace_supersedes_no_body_when_costs_fit(void **state)
+{
+    (void)state;
+    pace_run a = run_stage(0.0f, 45.0f);
+    pace_run next = run_stage(0.0f, 0.0f);
+    pace_run fixed = run_stage((float)PERIOD_MS, 0.0f);
+    printf("# %d bodies at 30 fps: --frame-budget auto (deadline 45 ms): %d superseded, settle "
+           "rounds %.1f a body, latency max %.1f ms, wait max %.1f ms; the next arrival only: %d, "
+           "%.1f, %.1f, %.1f ms; a fixed 33.3 ms: %d superseded, %.1f rounds, %.1f, %.1f ms\n",
+           PACE_BODIES, a.superseded, (double)a.rounds / a.simulated, a.latency_max_ms,
+           a.wait_max_ms, next.superseded, (double)next.rounds / next.simulated,
+           next.latency_max_ms, next.wait_max_ms, fixed.superseded,
+           (double)fixed.rounds / fixed.simulated, fixed.latency_max_ms, fixed.wait_max_ms);
+    assert_int_equal(a.superseded, 0);
+    assert_int_equal(a.simulated, PACE_BODIES);
+    assert_int_equal(a.over_deadline, 0);
+    assert_true(a.latency_max_ms < fixed.latency_max_ms && a.wait_max_ms < fixed.wait_max_ms);
+    assert_true(a.rounds > 0);
+    assert_int_equal(next.superseded, 0);
+    assert_true(next.rounds > a.rounds); /* later deadline, more rounds */
+    assert_true(fixed.superseded > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_budget_settle_tests_fit_the_time_left),
+        cmocka_unit_test(test_pace_deadline_from_the_bodies),
+        cmocka_unit_test(test_pace_supersedes_no_body_when_costs_fit),
         cmocka_unit_test(test_sim_budget_too_small_publishes_as_it_stands),
         cmocka_unit_test(test_sim_budget_never_reached_changes_nothing),
     };

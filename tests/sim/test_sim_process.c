@@ -231,8 +231,10 @@ static void test_sim_process_latest_body_wins(void **state)
     free(log);
 }
 
-/* --stats FILE: a header, then one CSV line of 11 fields per simulated body (as many as CLOTH
- * messages came back), iterations and milliseconds positive. */
+/* --stats FILE: a header, then one CSV line of 14 fields per simulated body (as many as CLOTH
+ * messages came back), iterations, milliseconds and CPU time positive, the budget (the default,
+ * --frame-budget auto) positive, the body's motion -1 for the first body; with --settle-floor
+ * 1000 mm every body after the first is counted as still (no settle round). */
 static void test_sim_process_stats_file(void **state)
 {
     (void)state;
@@ -240,7 +242,7 @@ static void test_sim_process_stats_file(void **state)
     const char *path = "test_sim_process_stats.csv"; /* in the test's build folder */
     session_start(&s, "stats",
                   (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", "--stats",
-                             (char *)path, NULL});
+                             (char *)path, "--settle-floor", "1000", NULL});
     for (int k = 0; k < 5; k++) {
         send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
         lcm_handle_timeout(s.lcm, 100);
@@ -258,16 +260,27 @@ static void test_sim_process_stats_file(void **state)
     int rows = 0;
     for (char *line = strchr(csv, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
         int body, st, settle, retries, strain_retries, iters, fp;
-        float strain, pen, ms_it, ms;
-        assert_int_equal(sscanf(line + 1, "%d,%d,%d,%d,%d,%d,%d,%f,%f,%f,%f", &body, &st, &settle,
-                                &retries, &strain_retries, &iters, &fp, &strain, &pen, &ms_it, &ms),
-                         11);
+        float strain, pen, ms_it, ms, cpu, budget, moved;
+        assert_int_equal(sscanf(line + 1, "%d,%d,%d,%d,%d,%d,%d,%f,%f,%f,%f,%f,%f,%f", &body, &st,
+                                &settle, &retries, &strain_retries, &iters, &fp, &strain, &pen,
+                                &ms_it, &ms, &cpu, &budget, &moved),
+                         14);
         assert_true(iters > 0 && ms > 0.0f && settle >= 0 && fp >= 0);
+        assert_true(cpu > 0.0f && budget > 0.0f);
+        assert_true(rows == 0 ? moved == -1.0f : moved >= 0.0f); /* the first has none before */
         rows++;
     }
     assert_int_equal(rows, s.n.cloth);
     free(csv);
+    const char *said = strstr(log, " without settle rounds");
+    int still = -1;
+    if (said) {
+        while (said > log && said[-1] >= '0' && said[-1] <= '9')
+            said--;
+        still = atoi(said);
+    }
     free(log);
+    assert_int_equal(still, rows - 1);
 }
 
 /* bodyfit publishes INIT while it estimates the shape: the garment made on such a body is made
