@@ -15,4 +15,8 @@ int sim_carry_between(sim_carry *c, const float (*from)[4], const float (*to)[4]
 /* The same from body frame k-1 to k; -1 when the body has no previous frame. */
 int sim_carry_points(sim_carry *c, const sim_body *b, float (*x)[4], int n);
 
+/* A frame no attempt solves: the last good cloth moved rigidly with the garment's moving frame
+ * (follow.c; recover.c). 0, or -1 (cloth unchanged) for a garment without a moving frame. */
+int sim_recover_rigid(struct sim *s);
+
 #endif

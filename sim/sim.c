@@ -562,7 +562,7 @@ static int redress_rigid(sim *s)
    is dressed again: the garment as made, moved rigidly with its attachments (a garment without
    them: carried point by point from the body it was made on). 0, or -1 when there is no last
    body frame to carry from (the cloth stays as it was). */
-static int carry_good(sim *s)
+static int carry_or_redress(sim *s)
 {
     if (sim_carry_points(s->carry, &s->body, s->cloth.x, s->cloth.nv) < 0)
         return -1;
@@ -575,6 +575,15 @@ static int carry_good(sim *s)
                           (const int32_t(*)[4])s->body.tris, s->body.nv, s->body.nt, s->cloth.x,
                           s->cloth.nv);
     }
+    return 0;
+}
+
+/* First the garment's moving frame, which stretches nothing (recover.c), then the carry point by
+   point (a garment without a moving frame). */
+static int carry_good(sim *s)
+{
+    if (sim_recover_rigid(s) != 0 && carry_or_redress(s) != 0)
+        return -1;
     memcpy(s->cloth.x_prev, s->cloth.x, (size_t)s->cloth.nv * sizeof *s->cloth.x_prev);
     s->ops->upload(s->backend, s);
     return 0;
