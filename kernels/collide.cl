@@ -214,6 +214,40 @@ void sim_resolve_one(__global float4 *x, __global float4 *x_prev, int i,
     x[i] = p;
 }
 
+/* Twin of sim_collider_research (sim/find_contacts.c): point i searched again when it has moved
+   farther from where its contact was searched (seen[i]) than that search's clearance (the signed
+   distance there to its triangle), or than the thickness h when that is less. */
+void sim_research_one(__global const float4 *x, int i, __global int *contact, __global float4 *seen,
+                      __global const float4 *v, __global const int4 *tris,
+                      __global const float4 *nrm, __global const int4 *nbr,
+                      __global const int *vt_start, __global const int *vt_list, int nleaves,
+                      __global const int2 *child, __global const int *order,
+                      __global const float4 *lo, __global const float4 *hi, float h, float radius)
+{
+    int t = contact[i];
+    float4 p = x[i], s = seen[i];
+    if (t < 0 || p.w == 0.0f)
+        return;
+    int4 f = tris[t];
+    float4 q, bary;
+    int region = sim_closest_on_triangle(s, v[f.x], v[f.y], v[f.z], &q, &bary);
+    float4 d = sim_sub3(s, q);
+    float clear;
+    if (region == SIM_REGION_FACE) {
+        clear = sim_dot3(d, nrm[t]);
+    } else {
+        float4 pn = sim_pseudo_normal(v, tris, nrm, nbr, vt_start, vt_list, t, region);
+        float len = sqrt(sim_dot3(d, d));
+        clear = sim_dot3(d, pn) >= 0.0f ? len : -len;
+    }
+    float r = clear > h ? clear : h;
+    float4 m = sim_sub3(p, s);
+    if (sim_dot3(m, m) > r * r) {
+        contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris, p, radius);
+        seen[i] = p;
+    }
+}
+
 __kernel void sim_resolve(__global float4 *x, __global float4 *x_prev, int begin, int end,
                           __global const int *contact, __global const float4 *v,
                           __global const int4 *tris, __global const float4 *nrm,

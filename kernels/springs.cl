@@ -338,7 +338,7 @@ __kernel void sim_iterations_tryon(
     __global const int *hier_vertex, __global const int *hier_parent_start,
     __global const int *hier_parent, __global const float *hier_rest, __global int *settle_rounds,
     __global const int *adj_start, __global const int *adj_spring, __global int *level,
-    __global int *front)
+    __global int *front, __global float4 *x_seen)
 {
     int lid = get_local_id(0), L = get_local_size(0);
     __local int settle_max, support_key, support_root, support_count;
@@ -370,6 +370,8 @@ __kernel void sim_iterations_tryon(
                         if (refresh)
                             contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
                                                             x[i], radius);
+                        if (refresh || rep == 0)
+                            x_seen[i] = x[i];
                         sim_verlet_one(x, x_prev, i, keep, g);
                     }
                     /* Attached vertices have w = 0, so Verlet left them alone: no race. */
@@ -394,6 +396,8 @@ __kernel void sim_iterations_tryon(
                         sim_tether_one(x, tether_anchor, tether_len, i, limit);
                         if (close)
                             sim_post_end_one(x, x_prev, i);
+                        sim_research_one(x, i, contact, x_seen, v, tris, nrm, nbr, vt_start,
+                                         vt_list, nleaves, child, order, lo, hi, h, radius);
                         sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list,
                                         h, mu);
                         if (open)
@@ -439,9 +443,11 @@ __kernel void sim_iterations_tryon(
                 }
                 case SIM_STAGE_REOPEN:
                     for (int i = lid; i < nv; i += L) {
-                        if (rep == 0 && contact_every > 0)
+                        if (rep == 0 && contact_every > 0) {
                             contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
                                                             x[i], radius);
+                            x_seen[i] = x[i];
+                        }
                         sim_post_begin_one(x, x_prev, i);
                     }
                     barrier(CLK_GLOBAL_MEM_FENCE);
@@ -476,13 +482,16 @@ __kernel void sim_pass_step(const sim_solver_params p, int rep, __global float4 
                             __global const float4 *hi, __global const float4 *v,
                             __global const int4 *tris, __global int *contact,
                             __global const sim_attachment *att, __global const float4 *att_from,
-                            __global const float4 *att_to)
+                            __global const float4 *att_to, __global float4 *x_seen)
 {
     int i = get_global_id(0);
     if (i < p.nv) {
-        if (p.contact_every > 0 && rep > 0 && rep % p.contact_every == 0)
+        int refresh = p.contact_every > 0 && rep > 0 && rep % p.contact_every == 0;
+        if (refresh)
             contact[i] =
                 sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
+        if (refresh || rep == 0)
+            x_seen[i] = x[i];
         sim_verlet_one(x, x_prev, i, p.keep, (float4)(p.g[0], p.g[1], p.g[2], 0.0f));
     }
     if (i < p.natt)
@@ -513,10 +522,13 @@ __kernel void sim_pass_strain(const sim_solver_params p, int begin, int end, __g
 /* SIM_STAGE_VERTICES: tethers, the bracket closed (close), the contact response, opened (open). */
 __kernel void sim_pass_vertices(const sim_solver_params p, int close, int open, __global float4 *x,
                                 __global float4 *x_prev, __global const int *tether_anchor,
-                                __global const float *tether_len, __global const int *contact,
+                                __global const float *tether_len, __global int *contact,
                                 __global const float4 *v, __global const int4 *tris,
                                 __global const float4 *nrm, __global const int4 *nbr,
-                                __global const int *vt_start, __global const int *vt_list)
+                                __global const int *vt_start, __global const int *vt_list,
+                                __global const int2 *child, __global const int *order,
+                                __global const float4 *lo, __global const float4 *hi,
+                                __global float4 *x_seen)
 {
     int i = get_global_id(0);
     if (i >= p.nv)
@@ -524,6 +536,8 @@ __kernel void sim_pass_vertices(const sim_solver_params p, int close, int open, 
     sim_tether_one(x, tether_anchor, tether_len, i, p.limit);
     if (close)
         sim_post_end_one(x, x_prev, i);
+    sim_research_one(x, i, contact, x_seen, v, tris, nrm, nbr, vt_start, vt_list, p.nleaves, child,
+                     order, lo, hi, p.h, p.radius);
     sim_resolve_one(x, x_prev, i, contact, v, tris, nrm, nbr, vt_start, vt_list, p.h, p.mu);
     if (open)
         sim_post_begin_one(x, x_prev, i);
@@ -575,12 +589,15 @@ __kernel void sim_pass_reopen(const sim_solver_params p, int rep, __global float
                               __global float4 *x_prev, __global const int2 *child,
                               __global const int *order, __global const float4 *lo,
                               __global const float4 *hi, __global const float4 *v,
-                              __global const int4 *tris, __global int *contact)
+                              __global const int4 *tris, __global int *contact,
+                              __global float4 *x_seen)
 {
     int i = get_global_id(0);
     if (i >= p.nv)
         return;
-    if (rep == 0 && p.contact_every > 0)
+    if (rep == 0 && p.contact_every > 0) {
         contact[i] = sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
+        x_seen[i] = x[i];
+    }
     sim_post_begin_one(x, x_prev, i);
 }

@@ -43,6 +43,7 @@ typedef struct cl_state {
     cl_mem settle; /* the settle rounds the last frame ran (1 int) */
     /* the support hierarchy: stretch springs by vertex (CSR), level per vertex, two lists of nv */
     cl_mem adj_start, adj_spring, level, front;
+    cl_mem x_seen; /* where each point's contact was last searched (sim_collider_research) */
     cl_kernel k_iter, k_attach, k_follow;
     /* the frame pass by pass (a GPU): kernels in sim_pass_kind order, the support's group size */
     cl_kernel k_pass[PASS_KINDS];
@@ -83,7 +84,7 @@ static void cl_destroy(void *state)
         clReleaseMemObject(c->att_to);
     if (c->settle)
         clReleaseMemObject(c->settle);
-    cl_mem support[] = {c->adj_start, c->adj_spring, c->level, c->front};
+    cl_mem support[] = {c->adj_start, c->adj_spring, c->level, c->front, c->x_seen};
     for (size_t i = 0; i < sizeof support / sizeof support[0]; i++)
         if (support[i])
             clReleaseMemObject(support[i]);
@@ -221,6 +222,8 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         c->level = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, nv * 4, NULL, &st);
     if (st == CL_SUCCESS)
         c->front = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, 2 * nv * 4, NULL, &st);
+    if (st == CL_SUCCESS)
+        c->x_seen = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, nv * 16, NULL, &st);
     size_t na = k->num_attachments > 0 ? (size_t)k->num_attachments : 1;
     if (st == CL_SUCCESS)
         c->att_from = clCreateBuffer(c->cl.context, CL_MEM_READ_WRITE, na * 16, NULL, &st);
@@ -356,7 +359,8 @@ static cl_int iterations(cl_state *c, const struct sim *s, int iters)
                            c->adj_start,
                            c->adj_spring,
                            c->level,
-                           c->front};
+                           c->front,
+                           c->x_seen};
     cl_kernel it = c->k_iter;
     cl_int st = clSetKernelArg(it, 0, sizeof p, &p);
     for (cl_uint i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
@@ -381,19 +385,22 @@ static cl_int buffer_args(cl_kernel k, cl_uint first, const cl_mem *b, cl_uint n
 static cl_int pass_args(cl_state *c, const sim_solver_params *p)
 {
     cl_kernel *k = c->k_pass;
-    const cl_mem step[] = {c->x,   c->x_prev, c->g.child,   c->g.order, c->g.lo,     c->g.hi,
-                           c->g.v, c->g.tris, c->g.contact, c->attach,  c->att_from, c->att_to};
+    const cl_mem step[] = {c->x,        c->x_prev, c->g.child, c->g.order,   c->g.lo,
+                           c->g.hi,     c->g.v,    c->g.tris,  c->g.contact, c->attach,
+                           c->att_from, c->att_to, c->x_seen};
     const cl_mem springs[] = {c->x, c->ends, c->rest, c->kind};
-    const cl_mem vertices[] = {c->x,      c->x_prev, c->anchor, c->tlen,       c->g.contact, c->g.v,
-                               c->g.tris, c->g.n,    c->g.nbr,  c->g.vt_start, c->g.vt_list};
+    const cl_mem vertices[] = {c->x,         c->x_prev,     c->anchor,    c->tlen,
+                               c->g.contact, c->g.v,        c->g.tris,    c->g.n,
+                               c->g.nbr,     c->g.vt_start, c->g.vt_list, c->g.child,
+                               c->g.order,   c->g.lo,       c->g.hi,      c->x_seen};
     const cl_mem hierarchy[] = {c->x,           c->x_prev,   c->hier_vertex, c->hier_parent_start,
                                 c->hier_parent, c->hier_rest};
     const cl_mem support[] = {c->x,         c->x_prev,     c->ends,   c->rest,
                               c->g.contact, c->g.v,        c->g.tris, c->g.n,
                               c->adj_start, c->adj_spring, c->level,  c->front};
     const cl_mem settle[] = {c->x, c->ends, c->rest, c->kind, c->settle};
-    const cl_mem reopen[] = {c->x,    c->x_prev, c->g.child, c->g.order,  c->g.lo,
-                             c->g.hi, c->g.v,    c->g.tris,  c->g.contact};
+    const cl_mem reopen[] = {c->x,    c->x_prev, c->g.child, c->g.order,   c->g.lo,
+                             c->g.hi, c->g.v,    c->g.tris,  c->g.contact, c->x_seen};
 #define N(a) (cl_uint)(sizeof a / sizeof a[0])
     cl_int st = CL_SUCCESS;
     for (int i = 0; i < PASS_KINDS; i++)

@@ -145,6 +145,22 @@ void sim_collider_find_contacts(sim_collider *c, const float (*x)[4], int begin,
         search_points(c, x, i, i + 1);
 }
 
+void sim_collider_research(sim_collider *c, const float (*x)[4], int begin, int end)
+{
+    if (!c || !x || c->nt == 0)
+        return;
+    end = end < c->max_cloth ? end : c->max_cloth;
+    for (int i = begin; i < end; i++) {
+        if (c->contact[i] < 0 || x[i][3] == 0.0f)
+            continue;
+        const float *b = c->clear[i];
+        float d[3] = {x[i][0] - b[0], x[i][1] - b[1], x[i][2] - b[2]};
+        float r = b[3] > c->d.thickness_m ? b[3] : c->d.thickness_m;
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > r * r)
+            search_points(c, x, i, i + 1);
+    }
+}
+
 void sim_collider_adopt_contacts(sim_collider *c, const float (*x)[4], const int32_t *contact,
                                  int begin, int end)
 {

@@ -235,6 +235,7 @@ static void vertex_phase(struct sim *s, sim_phases *ph, sim_phase_cursor *cur, f
         sim_tethers(c->x, c->tether_anchor, c->tether_len, b, e, limit);
         if (post_end)
             sim_post_end(c->x, c->x_prev, b, e);
+        sim_collider_research(s->collider, (const float(*)[4])c->x, b, e);
         sim_collider_resolve(s->collider, c->x, c->x_prev, b, e);
         if (post_begin)
             sim_post_begin(c->x, c->x_prev, b, e);
