@@ -26,8 +26,11 @@
 /* the attached vertices against their attachments' places on a body that turns rigidly, metres */
 #define ATTACH_TOL_M 0.001f
 
-/* Every attempt fails (gravity 1e7 m/s^2): frame 0 has nothing to carry from (DIVERGED), every
- * later frame is CARRIED. Returns the worst published max strain; *attach_m the farthest an
+/* Every attempt fails (gravity 1e7 m/s^2, the strain limit at 100 %): frame 0 has nothing to
+ * carry from (DIVERGED), every later frame is CARRIED. With the contacts searched again after a
+ * long move (docs/collision.md, "Response") the body holds such a cloth and the strain limit at
+ * its default keeps it under SIM_DIVERGE_STRAIN (24.6 % measured on turn): the loose limit lets
+ * it blow up. Returns the worst published max strain; *attach_m the farthest an
  * attached vertex lies from its attachment's place on the last frame. */
 static float run_unsolvable(sim_backend b, const char *motion, float *attach_m)
 {
@@ -38,6 +41,7 @@ static float run_unsolvable(sim_backend b, const char *motion, float *attach_m)
     sim_desc d = sim_default_desc();
     d.backend = b;
     d.gravity_m_s2 = 1e7f;
+    d.strain_limit = 1.0f;
     sim_reject why = {0};
     sim *s = sim_create(&d, &g, &why);
     assert_non_null(s);
