@@ -27,6 +27,20 @@ static inline void sim_v3_cross(const float *a, const float *b, float *o)
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+/* Squared distance from p to the segment a-b (C only: the shirt's arm tubes, the motion probe's
+   bones). */
+static inline float sim_segment_dist2(const float *p, const float *a, const float *b)
+{
+    float ab[3], ap[3];
+    sim_v3_sub(b, a, ab);
+    sim_v3_sub(p, a, ap);
+    float l2 = sim_v3_dot(ab, ab);
+    float t = l2 > 0.0f ? sim_v3_dot(ap, ab) / l2 : 0.0f;
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    float d[3] = {ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]};
+    return sim_v3_dot(d, d);
+}
+
 /* Where the closest point of a triangle lies: its face, one of its vertices, or one of its edges
    (edge i joins vertex i and vertex (i+1)%3). */
 enum {

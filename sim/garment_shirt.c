@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "collide_geometry.h"
 
 #define SHIRT_PI               3.14159265358979f
 #define SHIRT_DEFAULT_OFFSET_M 0.015f /* a fitted shirt stands 1.5 cm off the skin */
@@ -37,17 +38,6 @@ typedef struct shirt_frame {
     float armhole_m; /* how much lower the top edge is under the arms; 0 without joints */
 } shirt_frame;
 
-static float seg_dist2(const float *p, const float *a, const float *b)
-{
-    float ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-    float l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-    float t = l2 > 0.0f ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0.0f;
-    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-    float d[3] = {ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]};
-    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-}
-
 /* Torso vertices: nearer the pelvis-neck segment than any arm bone (with joints), or inside the
  * middle 60 % of the body's width (without). The tube's top (armpits) and hem (hem_m below the
  * pelvis joint) into f. */
@@ -67,13 +57,13 @@ static void classify(const float *xyz, int nv, const float *j, float hem_m, uint
             torso[i] = fabsf(p[0] - cx) < 0.6f * half;
             continue;
         }
-        float dt = seg_dist2(p, &j[J_PELVIS * 3], &j[J_NECK * 3]);
+        float dt = sim_segment_dist2(p, &j[J_PELVIS * 3], &j[J_NECK * 3]);
         /* the legs count as torso: a long hem (a tunic) encloses the tops of the thighs */
         static const int bones[][2] = {
             {J_LSHO, J_LELB}, {J_LELB, J_LWRI}, {J_RSHO, J_RELB}, {J_RELB, J_RWRI}};
         torso[i] = 1;
         for (int b = 0; b < 4; b++)
-            if (seg_dist2(p, &j[bones[b][0] * 3], &j[bones[b][1] * 3]) < dt)
+            if (sim_segment_dist2(p, &j[bones[b][0] * 3], &j[bones[b][1] * 3]) < dt)
                 torso[i] = 0;
     }
     float ylo = INFINITY, yhi = -INFINITY, sx = 0, sz = 0;

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "collide_geometry.h"
 #include "probe.h"
 #include "scene.h"
 
@@ -96,17 +97,6 @@ static float dist2(const float *a, const float *b)
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
 
-static float seg_dist2(const float *p, const float *a, const float *b)
-{
-    float ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    float ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-    float l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-    float t = l2 > 0.0f ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / l2 : 0.0f;
-    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-    float q[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
-    return dist2(p, q);
-}
-
 static int nearest_body_vertex(const float *p, const float *xyz, int nv)
 {
     int best = 0;
@@ -143,7 +133,7 @@ static int nearest_bone(const float *p, const float *j)
     int best = 0;
     float bd = INFINITY;
     for (int b = 0; b < PROBE_MAX_BONE; b++) {
-        float d = seg_dist2(p, &j[bone_end[b][0] * 3], &j[bone_end[b][1] * 3]);
+        float d = sim_segment_dist2(p, &j[bone_end[b][0] * 3], &j[bone_end[b][1] * 3]);
         if (d < bd)
             bd = d, best = b;
     }
