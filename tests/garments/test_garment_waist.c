@@ -31,25 +31,35 @@ static float waist_height(const uint8_t *waist, const gar_mesh *m, int *count)
     return *count ? (float)(y / *count) : NAN;
 }
 
-static void skirt_at_waist(int preset)
+/* The skirt meshed at 3 cm and placed on the body of shape preset PRESET; its fastened (waist)
+   vertices. The caller frees all four. */
+static uint8_t *placed_skirt(int preset, fit_model **b, gar_pattern *p, gar_mesh *m)
 {
     char err[200];
-    fit_model *b = fit_model_create(
+    *b = fit_model_create(
         &(fit_model_desc){.shape = fit_shape_preset(preset), .target_vertices = 6000}, err,
         sizeof err);
-    if (!b)
+    if (!*b)
         fail_msg("body: %s", err);
+    gar_reject why = {0};
+    if (gar_pattern_load(GAR_PATTERN_DIR "/skirt.json", p, &why))
+        fail_msg("%s", why.detail);
+    assert_int_equal(gar_mesh_build(p, &(gar_mesh_desc){.spacing_m = 0.03f}, m, &why), 0);
+    assert_int_equal(gar_mesh_place(p, m, *b, NULL, NULL, NULL, &why), 0);
+    uint8_t *waist = gar_fastened_vertices(p, m);
+    assert_non_null(waist);
+    return waist;
+}
+
+static void skirt_at_waist(int preset)
+{
+    fit_model *b;
+    gar_pattern p;
+    gar_mesh m;
+    uint8_t *waist = placed_skirt(preset, &b, &p, &m);
     fit_measurements ms;
     assert_int_equal(fit_model_measure(b, &ms), 0);
-    gar_pattern p;
     gar_reject why = {0};
-    if (gar_pattern_load(GAR_PATTERN_DIR "/skirt.json", &p, &why))
-        fail_msg("%s", why.detail);
-    gar_mesh m;
-    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
-    assert_int_equal(gar_mesh_place(&p, &m, b, NULL, NULL, NULL, &why), 0);
-    uint8_t *waist = gar_fastened_vertices(&p, &m);
-    assert_non_null(waist);
     int n = 0;
     float placed = waist_height(waist, &m, &n);
     gar_dress_stats st;
@@ -91,20 +101,10 @@ static void test_skirt_at_waist_broad_short(void **state)
 static void test_average_body_keeps_file_heights(void **state)
 {
     (void)state;
-    char err[200];
-    fit_model *b = fit_model_create(
-        &(fit_model_desc){.shape = fit_shape_preset(0), .target_vertices = 6000}, err, sizeof err);
-    if (!b)
-        fail_msg("body: %s", err);
+    fit_model *b;
     gar_pattern p;
-    gar_reject why = {0};
-    if (gar_pattern_load(GAR_PATTERN_DIR "/skirt.json", &p, &why))
-        fail_msg("%s", why.detail);
     gar_mesh m;
-    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
-    assert_int_equal(gar_mesh_place(&p, &m, b, NULL, NULL, NULL, &why), 0);
-    uint8_t *waist = gar_fastened_vertices(&p, &m);
-    assert_non_null(waist);
+    uint8_t *waist = placed_skirt(0, &b, &p, &m);
     double file = 0;
     int n = 0;
     for (int i = 0; i < m.num_vertices; i++)
