@@ -12,6 +12,7 @@
 #include "bus.h"
 #include "garments.h"
 #include "outfit_pattern.h"
+#include "queue.h"
 #include "sim.h"
 
 #define SIM_MAIN_TRIANGLES_EVERY 30 /* resend the garment's triangles once a second at 30 fps */
@@ -33,6 +34,9 @@
  * <= 50 ms at p95; 5 ms of it are left for a frame whose fixed part (no settle round) overruns
  * and for the wait for a core. */
 #define SIM_MAIN_DEADLINE_MS 45.0f
+/* --queue's default: one frame may overrun the camera's period by up to a period with no body
+ * superseded (bus_queue); a longer overrun still supersedes, so latency stays bounded. */
+#define SIM_MAIN_QUEUE 2
 /* A body stamped this soon after the last frame was published was queued while the sim worked:
  * its arrival time is not known (sim_pace_body). */
 #define SIM_MAIN_QUEUED_US 1000
@@ -45,9 +49,8 @@ static void on_signal(int sig)
     stop_requested = 1;
 }
 
-/* The newest body received and not simulated yet. */
+/* A body received and not simulated yet. */
 typedef struct pending_body {
-    int have;
     int32_t seq, topology_id;
     int8_t state; /* BODY's tracking state: the fitter's shape is final once TRACKING */
     int64_t utime_capture, received;
@@ -66,12 +69,13 @@ typedef struct app {
     int size; /* --size: S, M, L = 0, 1, 2 */
     int verts, frames_wanted, frames_done, skipped, triangles_every;
     float hem_m;    /* the generated shirt's hem below the pelvis joint (0: sim_garment_shirt's) */
-    int every_body; /* --queue all: simulate every body; else only the newest one */
+    int every_body; /* --queue all: simulate every body; else the newest `queue.depth` */
     int backend_auto;    /* --backend auto (the default), until decided (auto_backend) */
     int bodies_received; /* simulated, superseded or skipped */
-    int superseded;      /* arrived while a newer one was waiting: not simulated */
+    int superseded;      /* waiting when the queue was full and a newer one came: not simulated */
     int settling;        /* published cut short by the frame budget (SIM_STATE_SETTLING) */
-    pending_body next;
+    pending_body waiting[BUS_QUEUE_MAX];
+    bus_queue queue; /* which of `waiting` wait, oldest first */
     sim *sim;
     char garment_id[64];
     sim_topologies topo;  /* body triangle lists per topology id (bounded, live one pinned) */
@@ -253,7 +257,8 @@ static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bu
 }
 
 /* A body arrives: its triangles are kept at once (a superseded body may carry them), its
- * vertices wait in a.next for the main loop, replacing an older one still waiting. */
+ * vertices wait in a.waiting for the main loop, replacing the oldest one waiting when the queue
+ * is full. */
 static void on_body(const char *channel, const void *m, void *user)
 {
     (void)channel;
@@ -261,7 +266,8 @@ static void on_body(const char *channel, const void *m, void *user)
     const tryon_body_t *b = m;
     int64_t received = bus_now_wall_us();
     a->bodies_received++;
-    pending_body *p = &a->next;
+    int supersedes;
+    pending_body *p = &a->waiting[bus_queue_slot(&a->queue, &supersedes)];
     int nv = b->num_vertex_coords / 3;
     if (nv == 0) { /* no person (bodyfit lost them): the last cloth stands */
         if (a->skipped++ < 5)
@@ -292,7 +298,7 @@ static void on_body(const char *channel, const void *m, void *user)
         p->xyz = x;
         p->cap = nv;
     }
-    a->superseded += p->have;
+    a->superseded += supersedes;
     memcpy(p->xyz, b->vertices, (size_t)nv * 3 * sizeof *p->xyz);
     p->nv = nv;
     p->seq = b->seq;
@@ -309,7 +315,7 @@ static void on_body(const char *channel, const void *m, void *user)
         memcpy(p->shape, b->shape, sizeof p->shape);
     if (p->num_pose)
         memcpy(p->pose, b->pose, sizeof p->pose);
-    p->have = 1;
+    bus_queue_commit(&a->queue);
     sim_pace_body(&a->pace, b->seq, b->utime_capture, received,
                   received - a->published_us > SIM_MAIN_QUEUED_US);
 }
@@ -392,10 +398,8 @@ static float body_moved(app *a, const pending_body *b)
     return mm;
 }
 
-static void step_body(app *a)
+static void step_body(app *a, pending_body *b)
 {
-    pending_body *b = &a->next;
-    b->have = 0;
     bus_timing t; /* work starts now: the garment is made on the first body */
     bus_timing_begin(&t, "sim", b->seq, b->utime_capture, b->received);
     const sim_topology *topo;
@@ -487,7 +491,7 @@ static int usage(FILE *f, int rc)
     fprintf(f,
             "usage: tryon-sim [--backend auto|opencl|c] [--solver tryon|seed] [--garment FILE]\n"
             "                 [--size S|M|L]\n"
-            "                 [--verts N] [--iterations K] [--frames N] [--queue latest|all]\n"
+            "                 [--verts N] [--iterations K] [--frames N] [--queue N|latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
             "                 [--frame-budget auto|MS] [--deadline MS] [--settle-floor MM]\n"
             "                 [--stats FILE]\n"
@@ -498,9 +502,10 @@ static int usage(FILE *f, int rc)
             "  --backend auto (default): where the OpenCL device is a GPU, the faster of C and\n"
             "          OpenCL on the first garment, measured; OpenCL where TRYON_CL_DEVICE names\n"
             "          a device; else C. opencl falls back to C when no device opens\n"
-            "  --queue latest (default): when bodies arrive faster than they are simulated, the\n"
-            "          newest is simulated and the older ones are counted as superseded, so\n"
-            "          latency stays one frame; all: every body, in order (replays, tests)\n"
+            "  --queue N (1-4, default 2): at most N bodies wait while a frame is simulated;\n"
+            "          one arriving at a full queue supersedes the oldest waiting (counted), so\n"
+            "          latency stays bounded; 2 lets one frame overrun with no body lost.\n"
+            "          latest: 1 (only the newest waits); all: every body, in order (replays)\n"
             "  --retry-budget MS: a frame missing the strain goals is done again with more\n"
             "          iterations only while the frame fits in MS (0, default: always)\n"
             "  --frame-budget auto|MS: each body's time (0: none): settle rounds and strain\n"
@@ -539,6 +544,20 @@ static int parse_ms(const char *v, float *ms)
     return 0;
 }
 
+/* --queue N|latest|all */
+static int parse_queue(const char *v, app *a)
+{
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (!strcmp(v, "latest") || !strcmp(v, "all"))
+        n = 1; /* all: one body handled at a time, none ever superseded */
+    else if (end == v || *end || n < 1 || n > BUS_QUEUE_MAX)
+        return -1;
+    a->every_body = !strcmp(v, "all");
+    bus_queue_init(&a->queue, (int)n);
+    return 0;
+}
+
 static int parse(app *a, int argc, char **argv)
 {
     a->desc = sim_default_desc();
@@ -549,6 +568,7 @@ static int parse(app *a, int argc, char **argv)
     a->verts = 7000;
     a->size = SIM_SIZE_M;
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
+    bus_queue_init(&a->queue, SIM_MAIN_QUEUE);
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(o, "--help") || !strcmp(o, "-h"))
@@ -589,8 +609,8 @@ static int parse(app *a, int argc, char **argv)
             ;
         else if (!strcmp(o, "--frames"))
             a->frames_wanted = atoi(v);
-        else if (!strcmp(o, "--queue") && (!strcmp(v, "latest") || !strcmp(v, "all")))
-            a->every_body = !strcmp(v, "all");
+        else if (!strcmp(o, "--queue") && parse_queue(v, a) == 0)
+            ;
         else if (!strcmp(o, "--stats") && !a->stats && (a->stats = fopen(v, "w")))
             fprintf(a->stats,
                     "body,state,settle_rounds,retries,strain_retries,iterations,"
@@ -646,14 +666,15 @@ int main(int argc, char **argv)
     fprintf(stderr, "tryon-sim: waiting for %s on %s\n", channel_body, bus_default_url());
     while (!stop_requested) {
         /* drain what has arrived (latest) or take one body at a time (all) */
-        int r = lcm_handle_timeout(a.lcm, a.next.have ? 0 : 100);
+        int r = lcm_handle_timeout(a.lcm, a.queue.count ? 0 : 100);
         if (r > 0 && !a.every_body)
             continue;
         if (a.want_switch)
             switch_garment(&a);
-        if (a.next.have)
-            step_body(&a);
-        if (a.frames_wanted > 0 && a.bodies_received >= a.frames_wanted && !a.next.have)
+        int slot = bus_queue_take(&a.queue);
+        if (slot >= 0)
+            step_body(&a, &a.waiting[slot]);
+        if (a.frames_wanted > 0 && a.bodies_received >= a.frames_wanted && !a.queue.count)
             stop_requested = 1;
     }
     const bus_stats *bs = bus_sub_stats(sub);
@@ -680,7 +701,8 @@ int main(int argc, char **argv)
     if (a.stats)
         fclose(a.stats);
     free(a.xyz);
-    free(a.next.xyz);
+    for (int i = 0; i < BUS_QUEUE_MAX; i++)
+        free(a.waiting[i].xyz);
     free(a.moved_xyz);
     free(a.moved_scratch);
     return failed ? 1 : 0;

@@ -14,6 +14,7 @@
 
 #include "budget.h"
 #include "cloth.h"
+#include "queue.h"
 #include "sim_test_util.h"
 
 enum { FRAMES = 12, FULL = SIM_SETTLE_ROUNDS / SIM_SETTLE_BATCH };
@@ -195,8 +196,10 @@ static void test_pace_deadline_from_the_bodies(void **state)
 
 /* A sim stage on a timeline, driven by budget.c: bodies captured at 30 fps arrive after a fitting
  * latency that jitters (10-30 ms); a frame costs FIXED_MS plus ROUND_MS for each round, and wants
- * every settle round it may run (the walk's worst case). As tryon-sim's loop: an idle sim takes
- * the body that arrives, a busy one takes the newest on finishing and the older are superseded.
+ * every settle round it may run (the walk's worst case), and every spike_every-th frame spike_ms
+ * more (a frame that lost its core, the walk's steps). As tryon-sim's loop, through its queue
+ * (bus_queue, --queue depth): an idle sim takes the body that arrives, a busy one the oldest
+ * waiting on finishing; a body arriving at a full queue supersedes the oldest.
  * budget_ms > 0: that budget every frame; 0: the pace's deadline (--frame-budget auto). */
 enum { PACE_BODIES = 600, PACE_ITERS = 25 };
 #define FIXED_MS   12.0
@@ -208,7 +211,20 @@ enum { PACE_BODIES = 600, PACE_ITERS = 25 };
 typedef struct pace_run {
     int superseded, simulated, over_deadline, rounds;
     double latency_max_ms, wait_max_ms; /* capture -> published; arrival -> frame started */
+    double latency_p95_ms;
 } pace_run;
+
+typedef struct pace_setup {
+    float budget_ms, deadline_ms;
+    int depth, spike_every;
+    double spike_ms;
+} pace_setup;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
 
 static double fit_latency_ms(int k)
 {
@@ -236,24 +252,30 @@ static double frame_ms(sim_budget *b, float budget_ms, double spent_ms, int *rou
     return FIXED_MS + ROUND_MS * all + TAIL_MS;
 }
 
-static pace_run run_stage(float budget_ms, float deadline_ms)
+static pace_run run_stage(pace_setup ps)
 {
+    float budget_ms = ps.budget_ms, deadline_ms = ps.deadline_ms;
     sim_budget b = {0};
     sim_pace p = {0};
     pace_run r = {0};
+    bus_queue q;
+    bus_queue_init(&q, ps.depth);
+    int waiting[BUS_QUEUE_MAX];
+    static double latency[PACE_BODIES];
     double now = 0.0, published = -1.0;
-    int next = 0, pending = -1;
-    while (next < PACE_BODIES || pending >= 0) {
-        if (pending < 0 && now < next * PERIOD_MS + fit_latency_ms(next))
+    int next = 0;
+    while (next < PACE_BODIES || q.count) {
+        if (!q.count && now < next * PERIOD_MS + fit_latency_ms(next))
             now = next * PERIOD_MS + fit_latency_ms(next); /* idle: woken by the next body */
         while (next < PACE_BODIES && next * PERIOD_MS + fit_latency_ms(next) <= now) {
-            r.superseded += pending >= 0;
-            pending = next;
+            int supersedes, slot = bus_queue_slot(&q, &supersedes);
+            r.superseded += supersedes;
+            waiting[slot] = next;
+            bus_queue_commit(&q);
             sim_pace_body(&p, next, us(next * PERIOD_MS), us(now), now - published > 1.0);
             next++;
         }
-        int k = pending;
-        pending = -1;
+        int k = waiting[bus_queue_take(&q)];
         if (k > 1 && now - (k * PERIOD_MS + fit_latency_ms(k)) > r.wait_max_ms)
             r.wait_max_ms = now - (k * PERIOD_MS + fit_latency_ms(k));
         double capture = k * PERIOD_MS, start = now;
@@ -262,6 +284,9 @@ static pace_run run_stage(float budget_ms, float deadline_ms)
                            : sim_pace_budget_ms(&p, us(capture), us(now), deadline_ms, 20.0f);
         int rounds;
         now += frame_ms(&b, budget, 0.0, &rounds) + PUBLISH_MS;
+        if (ps.spike_every > 0 && k % ps.spike_every == ps.spike_every - 1)
+            now += ps.spike_ms;
+        latency[r.simulated] = now - capture;
         sim_pace_published(&p, (float)PUBLISH_MS);
         published = now;
         r.simulated++;
@@ -274,6 +299,8 @@ static pace_run run_stage(float budget_ms, float deadline_ms)
         if (now - capture > r.latency_max_ms && k > 1)
             r.latency_max_ms = now - capture;
     }
+    qsort(latency, (size_t)r.simulated, sizeof *latency, cmp_double);
+    r.latency_p95_ms = latency[(int)(0.95 * r.simulated)];
     return r;
 }
 
@@ -285,9 +312,9 @@ static pace_run run_stage(float budget_ms, float deadline_ms)
 static void test_pace_supersedes_no_body_when_costs_fit(void **state)
 {
     (void)state;
-    pace_run a = run_stage(0.0f, 45.0f);
-    pace_run next = run_stage(0.0f, 0.0f);
-    pace_run fixed = run_stage((float)PERIOD_MS, 0.0f);
+    pace_run a = run_stage((pace_setup){.deadline_ms = 45.0f, .depth = 1});
+    pace_run next = run_stage((pace_setup){.depth = 1});
+    pace_run fixed = run_stage((pace_setup){.budget_ms = (float)PERIOD_MS, .depth = 1});
     printf("# %d bodies at 30 fps: --frame-budget auto (deadline 45 ms): %d superseded, settle "
            "rounds %.1f a body, latency max %.1f ms, wait max %.1f ms; the next arrival only: %d, "
            "%.1f, %.1f, %.1f ms; a fixed 33.3 ms: %d superseded, %.1f rounds, %.1f, %.1f ms\n",
@@ -305,12 +332,42 @@ static void test_pace_supersedes_no_body_when_costs_fit(void **state)
     assert_true(fixed.superseded > 0);
 }
 
+/* A frame in 40 overruns by 30 ms (its fixed part 55 ms against the camera's 33). With only the
+ * newest body waiting (--queue latest) the body that arrives during it and the one after meet,
+ * and one is superseded; with two allowed to wait (--queue 2, the default) every body is
+ * simulated, the one that waited late and without settle rounds: the latency of the frames
+ * after the overrun rises (here the p95 by 5 ms), no frame is later than the overrun itself. An
+ * overrun of three periods supersedes with either. */
+static void test_queue_of_two_absorbs_an_overrun(void **state)
+{
+    (void)state;
+    pace_setup ps = {.deadline_ms = 45.0f, .depth = 1, .spike_every = 40, .spike_ms = 30.0};
+    pace_run one = run_stage(ps);
+    ps.depth = 2;
+    pace_run two = run_stage(ps);
+    ps.spike_ms = 90.0; /* an overrun of about three periods: the queue of two supersedes */
+    pace_run long_two = run_stage(ps);
+    printf("# a frame in 40 30 ms longer: --queue latest %d superseded, latency p95 %.1f max %.1f "
+           "ms; --queue 2: %d, %.1f, %.1f ms; 90 ms longer, --queue 2: %d, %.1f, %.1f ms\n",
+           one.superseded, one.latency_p95_ms, one.latency_max_ms, two.superseded,
+           two.latency_p95_ms, two.latency_max_ms, long_two.superseded, long_two.latency_p95_ms,
+           long_two.latency_max_ms);
+    assert_true(one.superseded > 0);
+    assert_int_equal(two.superseded, 0);
+    assert_int_equal(two.simulated, PACE_BODIES);
+    assert_true(two.latency_p95_ms <= one.latency_p95_ms + 10.0);
+    assert_true(two.latency_max_ms <= one.latency_max_ms + 1e-9);
+    assert_true(long_two.superseded > 0);
+    assert_true(long_two.superseded + long_two.simulated == PACE_BODIES);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_budget_settle_tests_fit_the_time_left),
         cmocka_unit_test(test_pace_deadline_from_the_bodies),
         cmocka_unit_test(test_pace_supersedes_no_body_when_costs_fit),
+        cmocka_unit_test(test_queue_of_two_absorbs_an_overrun),
         cmocka_unit_test(test_sim_budget_too_small_publishes_as_it_stands),
         cmocka_unit_test(test_sim_budget_never_reached_changes_nothing),
     };
