@@ -20,6 +20,7 @@ typedef struct launch_stage {
     char *argv[LAUNCH_MAX_ARGS + 1]; /* argv[0] a path; the strings are the caller's */
     const char *ready;               /* a line the stage prints once it listens; NULL = none */
     launch_role role;
+    int nice;       /* added to its niceness (0..19): the cores go to the others first */
     char log[320];  /* its stdout and stderr, appended across restarts */
     pid_t pid;      /* 0 = not running */
     pid_t last_pid; /* the run that ended last */

@@ -19,7 +19,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: tryon run [RECORDING | --live] [--headless --out DIR] [--video FILE.mp4]\n"
                "                 [--garment FILE] [--fabric NAME] [--record DIR]\n"
                "                 [--body bodyfit|truth] [--backend auto|c|opencl] [--rate R]\n"
-               "                 [--png-every N] [--kiosk]\n"
+               "                 [--png-every N] [--kiosk] [--mirror-nice N]\n"
                "       tryon replay LOG [--headless --out DIR] [--video FILE.mp4] [--speed S]\n"
                "       tryon pace LOG [--fps F] [--latency MS]\n"
                "       tryon path LOG\n"
@@ -30,7 +30,20 @@ static void usage(FILE *f)
                "  --record DIR: the session's LCM log (DIR/session.lcmlog, for tryon replay), the\n"
                "          depth frames (DIR/depth) and the stages' logs\n"
                "  --rate R: the recording's pace (realtime, max or frames per second)\n"
+               "  --mirror-nice N: tryon-mirror's niceness, 0-19 (default 5): where the cores are\n"
+               "          short, the next body's fit and cloth go before the last one's picture\n"
                "  Ctrl-C stops everything; a stage that dies is restarted within a second.\n");
+}
+
+/* 0..19: a stage may only be made nicer (no privilege needed) */
+static int parse_nice(const char *v, int *out)
+{
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (end == v || *end || n < 0 || n > 19)
+        return -1;
+    *out = (int)n;
+    return 0;
 }
 
 static int parse_run(session_opts *o, int argc, char **argv)
@@ -38,6 +51,7 @@ static int parse_run(session_opts *o, int argc, char **argv)
     o->body = "bodyfit";
     o->backend = "auto";
     o->rate = "realtime";
+    o->mirror_nice = LAUNCH_MIRROR_NICE;
     for (int i = 2; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--live"))
@@ -48,7 +62,14 @@ static int parse_run(session_opts *o, int argc, char **argv)
             o->kiosk = 1;
         else if (a[0] != '-' && !o->recording)
             o->recording = a;
-        else if (!v || a[0] != '-') {
+        else if (!strcmp(a, "--mirror-nice")) {
+            if (!v || parse_nice(v, &o->mirror_nice) < 0) {
+                fprintf(stderr, "tryon: --mirror-nice %s: give a niceness from 0 to 19\n",
+                        v ? v : "(missing)");
+                return -1;
+            }
+            i++;
+        } else if (!v || a[0] != '-') {
             fprintf(stderr, "tryon: %s: unknown option or missing value\n", a);
             return -1;
         } else {
@@ -128,6 +149,7 @@ int session_add_view(session *s)
     launch_stage *m = session_stage(s, "tryon-mirror", LAUNCH_VIEW, "listening for");
     if (!m)
         return -1;
+    m->nice = s->o.mirror_nice;
     if (s->o.headless)
         session_arg(s, m, "--headless", NULL);
     if (s->o.kiosk && !s->o.headless)

@@ -12,6 +12,11 @@
 #define SESSION_RESTART_WINDOW_US 30000000
 /* After the recording ends, frames still in the pipeline get this long to arrive. */
 #define SESSION_DRAIN_US 1500000
+/* tryon-mirror's niceness by default: on two cores the four stages want 45-50 ms of CPU a 33 ms
+ * frame; a picture drawn a little later costs the screen's latency less than a body fitted or a
+ * cloth simulated later, which delays both the cloth and every picture after (docs/pipeline.md,
+ * "Threads"). */
+#define LAUNCH_MIRROR_NICE 5
 
 typedef struct session_opts {
     const char *recording; /* NULL with live */
@@ -19,6 +24,7 @@ typedef struct session_opts {
     const char *out_dir, *video, *garment, *fabric, *record_dir, *body, *backend, *rate;
     const char *log; /* replay */
     const char *speed, *png_every;
+    int mirror_nice; /* tryon-mirror's niceness (--mirror-nice) */
 } session_opts;
 
 typedef struct session {

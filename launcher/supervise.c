@@ -41,6 +41,8 @@ int launch_start(launch_stage *s)
         prctl(PR_SET_PDEATHSIG, SIGTERM);
         if (getppid() != parent)
             _exit(1);
+        if (s->nice > 0 && setpriority(PRIO_PROCESS, 0, s->nice) < 0)
+            fprintf(stderr, "tryon: %s: nice %d: %s\n", s->name, s->nice, strerror(errno));
         int fd = open(s->log, O_WRONLY | O_CREAT | O_APPEND, 0644);
         if (fd >= 0) {
             dup2(fd, 1);

@@ -60,6 +60,25 @@ static pid_t wait_pid_after(const char *out, const char *what, int timeout_ms)
     return 0;
 }
 
+/* A process's niceness, from /proc/PID/stat (field 19); -100 when it cannot be read. */
+static int niceness(pid_t pid)
+{
+    char path[64], buf[1024];
+    snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -100;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    char *p = strrchr(buf, ')'); /* the command name may hold spaces */
+    int field = 2, nice = -100;
+    for (char *tok = p ? strtok(p + 1, " ") : NULL; tok; tok = strtok(NULL, " "))
+        if (++field == 19)
+            nice = atoi(tok);
+    return nice;
+}
+
 static void assert_gone(pid_t pid, const char *name)
 {
     for (int t = 0; t < 100 && kill(pid, 0) == 0; t++) /* a zombie being reaped by init */
@@ -90,6 +109,9 @@ static void start(run *r, const char *rate)
     r->truth = pid_after(r->out, "started tryon-truth");
     r->mirror = pid_after(r->out, "started tryon-mirror");
     assert_true(r->sim > 0 && r->truth > 0 && r->mirror > 0);
+    /* the mirror yields the cores to the stages on the cloth's path (--mirror-nice, 5) */
+    assert_int_equal(niceness(r->mirror) - niceness(getpid()), 5);
+    assert_int_equal(niceness(r->sim), niceness(getpid()));
 }
 
 static void finish(run *r, int status, pid_t extra)
@@ -407,6 +429,8 @@ static void test_bad_invocations_name_the_fix(void **state)
     expect_refusal(both, NULL, 2, "RECORDING or --live");
     char *live_truth[] = {TRYON_EXE, "run", "--live", "--body", "truth", "--headless", NULL};
     expect_refusal(live_truth, NULL, 2, "ground truth");
+    char *nice[] = {TRYON_EXE, "run", SAMPLE, "--headless", "--mirror-nice", "20", NULL};
+    expect_refusal(nice, NULL, 2, "0 to 19");
     char *help[] = {TRYON_EXE, "--help", NULL};
     expect_refusal(help, NULL, 0, "tryon replay LOG");
 }
