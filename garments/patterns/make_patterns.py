@@ -113,11 +113,11 @@ def write(name, panels, stitches):
 
 def tshirt_body(neck):
     """T-shirt front or back as drawn from the front; neck: the neckline's control height."""
-    return Panel([(-28.5, 30), (28.5, 30), (28.5, 73), (22.5, 92.5), (8, 96), (-8, 96),
-                  (-22.5, 92.5), (-28.5, 73)],
-                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (23, 79))),
+    return Panel([(-28.5, 30), (28.5, 30), (28.5, 71), (22.5, 92.5), (8, 96), (-8, 96),
+                  (-22.5, 92.5), (-28.5, 71)],
+                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (23, 77.5))),
                   ("shoulder_r", None), ("neck", ("q", (0, neck))), ("shoulder_l", None),
-                  ("arm_l", ("q", (-23, 79))), ("side_l0", None)])
+                  ("arm_l", ("q", (-23, 77.5))), ("side_l0", None)])
 
 
 def tshirt():
