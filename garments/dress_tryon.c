@@ -69,8 +69,8 @@
 #define GAR_TRYON_ITERATIONS 3
 /* ... and once gravity is on: a garment hanging from the shoulders or the hips is held at the
  * strain limit wherever the sweeps leave its weight unconverged, and the contacts add their push
- * on top; 8 brought the T-shirt's and the dress's max strain from 3.7-6.5 to 2.4-3.1 % (S/M/L)
- * for a few per cent more time (docs/garments.md, "Strain"). */
+ * on top; 8 brought the T-shirt's and the dress's max strain from 3.4-6.5 to 2.4-2.9 % (S/M/L)
+ * for 4 to 20 % more time (the jeans M; docs/garments.md, "Strain"). */
 #define GAR_TRYON_DRAPE_ITERATIONS 8
 /* The strain limit aims a little under the fabric's, so the sweeps' residue stays within it. */
 #define GAR_TRYON_LIMIT_MARGIN 0.8f
