@@ -168,17 +168,25 @@ def skirt():
     # S, graded 4 % smaller, must clear it too (at 90 cm the S's waist lay on the body 3.5 %
     # longer than cut). The waistband is fastened at its height (garments/dress_tryon.c): a
     # loose waist no longer slides down to the hips.
-    front = Panel([(-34, 0), (34, 0), (28, 45), (23.25, 59), (-23.25, 59), (-28, 45)],
-                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.75, 53))),
-                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-27.75, 53))),
+    front = Panel([(-34, 0), (34, 0), (28, 45), (24.75, 59), (-24.75, 59), (-28, 45)],
+                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.6, 53))),
+                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-27.6, 53))),
                    ("side_l0", None)])
-    # The back's waist rises 1.1 cm at the centre where the front's dips 2.3 cm: the cloth over the
-    # seat is longer than over the belly (docs/garments.md, "Strain").
-    back = Panel(front.pts, front.edges[:3] + [("waist", ("c", 250, 0, 1))] + front.edges[4:])
-    back = back.mirrored()
+    # The back takes the seat's curvature in two darts, 3 cm at the waist and 11.5 cm long, 10.5 cm
+    # from the centre, its waist 0.7 cm higher there; without them the cloth over the seat was
+    # stretched 3.7 % (S) from top to bottom (docs/garments.md, "Strain"). Front and back meet at
+    # the side 24.75 cm from the centre (the darts' 6 cm out of the back's waist), so their side
+    # seams are cut the same length.
+    back = Panel([(-34, 0), (34, 0), (28, 45), (24.75, 59), (12, 59.6), (10.5, 48), (9, 59.7),
+                  (-9, 59.7), (-10.5, 48), (-12, 59.6), (-24.75, 59), (-28, 45)],
+                 [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.6, 53))),
+                  ("waist", None), ("dart_ra", None), ("dart_rb", None), ("waist", None),
+                  ("dart_la", None), ("dart_lb", None), ("waist", None),
+                  ("side_l1", ("q", (-27.6, 53))), ("side_l0", None)]).mirrored()
     panels = {"front": (front, (0, 50.5, 14), FRONT), "back": (back, (0, 50.5, -14), BACK)}
     st = [(("front", "side_r%d" % k), ("back", "side_r%d" % k)) for k in range(2)]
     st += [(("front", "side_l%d" % k), ("back", "side_l%d" % k)) for k in range(2)]
+    st += [(("back", "dart_ra"), ("back", "dart_rb")), (("back", "dart_la"), ("back", "dart_lb"))]
     write("skirt", panels, st)
 
 
