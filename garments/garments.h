@@ -173,7 +173,8 @@ typedef struct gar_dress_desc {
     int drape_steps;                 /* after the seams close; 0 = 300 */
     float map_pixel_m;               /* depth map pixel; 0 = 0.004 */
     int cloth_cloth;                 /* 1 = panel-panel repulsion on */
-    int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 3 */
+    int iterations; /* tryon's method: sweeps of constraints and contacts a step; 0 = 3 while
+                     * seaming, 8 once gravity is on */
     /* Seam stiffness as a multiple of the fabric's stretch stiffness: the seed's joint springs
      * (0 = 1, its default), tryon's seams as XPBD constraints of that stiffness (0 = hard, its
      * default). The stability map's axis (docs/garments.md). */

@@ -113,11 +113,11 @@ def write(name, panels, stitches):
 
 def tshirt_body(neck):
     """T-shirt front or back as drawn from the front; neck: the neckline's control height."""
-    return Panel([(-28.5, 30), (28.5, 30), (28.5, 73), (22.5, 92.5), (8, 96), (-8, 96),
-                  (-22.5, 92.5), (-28.5, 73)],
-                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (23, 79))),
+    return Panel([(-28.5, 30), (28.5, 30), (28.5, 71), (22.5, 92.5), (8, 96), (-8, 96),
+                  (-22.5, 92.5), (-28.5, 71)],
+                 [("hem", None), ("side_r0", None), ("arm_r", ("q", (23, 77.5))),
                   ("shoulder_r", None), ("neck", ("q", (0, neck))), ("shoulder_l", None),
-                  ("arm_l", ("q", (-23, 79))), ("side_l0", None)])
+                  ("arm_l", ("q", (-23, 77.5))), ("side_l0", None)])
 
 
 def tshirt():
@@ -163,28 +163,46 @@ def dress():
 
 
 def skirt():
-    # The waist at the average body's waist (1.095 m: fit_model_measure) and 90 cm round: its
-    # girth there is 85 cm (87 cm convex), plus 2 cm for the 3 mm the cloth is kept out. Looser,
-    # nothing holds it at the waist: a 94 cm waist slid 13 cm down to the hips while dressing.
-    front = Panel([(-34, 0), (34, 0), (28, 45), (22.5, 59), (-22.5, 59), (-28, 45)],
-                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.5, 53))),
-                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-27.5, 53))),
+    # The waist at the average body's waist (1.095 m: fit_model_measure) and 93 cm round: its
+    # girth there is 85 cm (87 cm convex), plus 2 cm for the 3 mm the cloth is kept out, and the
+    # S, graded 4 % smaller, must clear it too (at 90 cm the S's waist lay on the body 3.5 %
+    # longer than cut). The waistband is fastened at its height (garments/dress_tryon.c): a
+    # loose waist no longer slides down to the hips.
+    front = Panel([(-34, 0), (34, 0), (28, 45), (24.75, 59), (-24.75, 59), (-28, 45)],
+                  [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.6, 53))),
+                   ("waist", ("c", 120, 0, 0)), ("side_l1", ("q", (-27.6, 53))),
                    ("side_l0", None)])
-    back = front.mirrored()
+    # The back takes the seat's curvature in two darts, 3 cm at the waist and 11.5 cm long, 10.5 cm
+    # from the centre, its waist 0.7 cm higher there; without them the cloth over the seat was
+    # stretched 3.7 % (S) from top to bottom (docs/garments.md, "Strain"). Front and back meet at
+    # the side 24.75 cm from the centre (the darts' 6 cm out of the back's waist), so their side
+    # seams are cut the same length.
+    back = Panel([(-34, 0), (34, 0), (28, 45), (24.75, 59), (12, 59.6), (10.5, 48), (9, 59.7),
+                  (-9, 59.7), (-10.5, 48), (-12, 59.6), (-24.75, 59), (-28, 45)],
+                 [("hem", ("c", 150, 0, 1)), ("side_r0", None), ("side_r1", ("q", (27.6, 53))),
+                  ("waist", None), ("dart_ra", None), ("dart_rb", None), ("waist", None),
+                  ("dart_la", None), ("dart_lb", None), ("waist", None),
+                  ("side_l1", ("q", (-27.6, 53))), ("side_l0", None)]).mirrored()
     panels = {"front": (front, (0, 50.5, 14), FRONT), "back": (back, (0, 50.5, -14), BACK)}
     st = [(("front", "side_r%d" % k), ("back", "side_r%d" % k)) for k in range(2)]
     st += [(("front", "side_l%d" % k), ("back", "side_l%d" % k)) for k in range(2)]
+    st += [(("back", "dart_ra"), ("back", "dart_rb")), (("back", "dart_la"), ("back", "dart_lb"))]
     write("skirt", panels, st)
 
 
 def jeans():
     # Drawn as seen from the front, the body's right leg (world -x); hem at y = 6 (ankle).
-    fr = Panel([(-16, 6), (-3, 6), (4.5, 73.5), (0, 84), (0, 104), (-22.5, 104), (-25.5, 84)],
-               [("hem", None), ("inseam", None), ("crotch", ("q", (0, 73.5))), ("centre", None),
+    # Crotch extensions 7.5 cm (front) and 12.5 cm (back) past the centre line: with 4.5 and 9 cm
+    # the crotch seams hung 3 cm under the body stretched 4-6 % along their length (the thigh's
+    # girth at the crotch wider than front and back together); 8 and 13.5 cm folded the L's
+    # crotch through itself. The waist 97 cm (M), so that the S, graded 4 % smaller, still clears
+    # the body's 86 cm waist by the 2 cm the cloth is kept out (docs/garments.md, "Strain").
+    fr = Panel([(-16, 6), (-3, 6), (7.5, 73.5), (0, 84), (0, 104), (-23.25, 104), (-25.5, 84)],
+               [("hem", None), ("inseam", None), ("crotch", ("q", (0.5, 74))), ("centre", None),
                 ("waist", None), ("hip", ("q", (-24.5, 95))), ("side", None)])
-    br_world = Panel([(-17.5, 6), (-2.5, 6), (9, 71), (2, 86), (3, 106), (-21.5, 104),
+    br_world = Panel([(-17.5, 6), (-2.5, 6), (12.5, 71), (2, 86), (3, 106), (-22.25, 104),
                       (-27.5, 84)],
-                     [("hem", None), ("inseam", None), ("crotch", ("q", (2, 72))),
+                     [("hem", None), ("inseam", None), ("crotch", ("q", (2.5, 72.5))),
                       ("centre", None), ("waist", None), ("hip", ("q", (-25.5, 95))),
                       ("side", None)])
     br = br_world.mirrored()  # in its own frame, which faces -z

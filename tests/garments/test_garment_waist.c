@@ -16,8 +16,9 @@
 #include "dress_internal.h"
 #include "garments.h"
 
-/* The waist edge is a circle arc that dips 1.3 cm below its ends at the centre front and back:
- * its mean height lies about that far under the body's waist slice. */
+/* The waist edge is a circle arc that dips 2.3 cm below its ends at the centre front and lies
+ * 0.6-0.7 cm above them between the back's darts: its mean height is a few millimetres under
+ * the body's waist slice. */
 #define WAIST_TOLERANCE_M 0.03f
 
 /* Mean height of the fastened (waist) vertices; how many there are. */
