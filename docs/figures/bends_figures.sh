@@ -35,7 +35,8 @@ STRAIN_RETRY=-1 "$HERE"/motion_figures.sh "$B" "$CLIP_FRAMES"
 for r in $(seq "$ROUNDS"); do
     for b in "$BASE" "$B"; do
         echo "== round $r: $b"
-        "$b"/sim/tryon-bench-sim --scene body --verts 7000 --iterations 25 --backend c \
+        /usr/bin/time -f "all: %U s CPU, %e s wall" \
+            "$b"/sim/tryon-bench-sim --scene body --verts 7000 --iterations 25 --backend c \
             --no-ref --motion all | summary
         for m in bend_forward bend_fast; do
             /usr/bin/time -f "$m 180 frames: %U s CPU, %e s wall" \
