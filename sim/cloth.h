@@ -158,7 +158,8 @@ struct sim {
 #define SIM_SETTLE_BATCH  2
 /* ... and only while each batch takes at least 2 % off that strain: a garment the rounds cannot
    settle (the drape's corners, 9 % falling by 1-2 % a batch) is left to the next frame; frames
-   that refresh their contacts search them once more first and do not stop early */
+   that refresh their contacts search them once more first and do not stop early, nor do frames
+   over the strain retry goal (sim_settle_stop: stopped there, the frame is done again) */
 #define SIM_SETTLE_PROGRESS 0.98f
 
 /* The moving frame (follow.c). sim_fit_rigid: the rigid motion x -> m x (3 x 4, row-major)

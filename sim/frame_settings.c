@@ -39,6 +39,9 @@ void sim_solver_params_fill(const struct sim *s, int iters, sim_solver_params *p
     p->settle_progress = SIM_SETTLE_PROGRESS;
     p->settle_strain = SIM_SETTLE_STRAIN;
     p->support = s->desc.support && c->num_attachments == 0;
+    p->settle_hold = s->desc.solver == SIM_SOLVER_TRYON && s->desc.retry_max_strain > 0.0f
+                         ? s->desc.retry_max_strain
+                         : 0.0f;
     p->rest_tol = SIM_REST_TOL_M;
 }
 
