@@ -245,6 +245,7 @@ mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, MIRROR_PANEL_W, MIRROR_PANEL_H);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         snprintf(err, n, "OpenGL error 0x%x setting up the renderer", e);
@@ -390,7 +391,7 @@ static void overlay(mirror_renderer *r, const char *text, int fit_map)
         widest = widest > 104 ? widest : 104;
     }
     (void)lines;
-    int pw = widest + 8, ph = y + 2;
+    int pw = widest + 8, ph = y + 2 < MIRROR_PANEL_H ? y + 2 : MIRROR_PANEL_H;
     for (int yy = 0; yy < ph; yy++) /* a dark backing behind the text */
         for (int x = 0; x < pw; x++) {
             uint8_t *q = &r->panel[(yy * MIRROR_PANEL_W + x) * 4];
@@ -399,8 +400,9 @@ static void overlay(mirror_renderer *r, const char *text, int fit_map)
         }
     int scale = r->h >= 600 ? 2 : 1;
     glBindTexture(GL_TEXTURE_2D, r->panel_tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, MIRROR_PANEL_W, MIRROR_PANEL_H, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, r->panel);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, MIRROR_PANEL_W, ph, GL_RGBA, GL_UNSIGNED_BYTE,
+                    r->panel); /* the rows drawn on: the quad samples no others */
     float x0 = -1.0f, y0 = 1.0f, x1 = -1.0f + 2.0f * (float)(pw * scale) / (float)r->w;
     float y1 = 1.0f - 2.0f * (float)(ph * scale) / (float)r->h;
     float u1 = (float)pw / MIRROR_PANEL_W, v1 = (float)ph / MIRROR_PANEL_H;
