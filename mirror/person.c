@@ -47,10 +47,11 @@ static size_t view_floats(int w, int h)
 static inline void near(const depth_view *w, const float *zp, int k, int u, int v, float z,
                         const float *c, float *out)
 {
-    float zn = zp[k];
-    int same = zn > 0.0f && fabsf(zn - z) < MIRROR_EDGE_JUMP * z;
-    out[0] = same ? w->xs[u] * zn : c[0];
-    out[1] = same ? w->ys[v] * zn : c[1];
+    /* every term computed, then chosen: no branch, so that the callers' loops are vectorised */
+    float zn = zp[k], x = w->xs[u] * zn, y = w->ys[v] * zn;
+    int same = (zn > 0.0f) & (fabsf(zn - z) < MIRROR_EDGE_JUMP * z);
+    out[0] = same ? x : c[0];
+    out[1] = same ? y : c[1];
     out[2] = same ? zn : c[2];
 }
 
@@ -69,7 +70,8 @@ static inline float shade(const depth_view *w, const float *zp, int u, int v, fl
     float n[3] = {dv[1] * du[2] - dv[2] * du[1], dv[2] * du[0] - dv[0] * du[2],
                   dv[0] * du[1] - dv[1] * du[0]};
     float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    return len2 > 0.0f ? fabsf(n[2]) / sqrtf(len2) : 1.0f;
+    float q = fabsf(n[2]) / sqrtf(len2 > 0.0f ? len2 : 1.0f);
+    return len2 > 0.0f ? q : 1.0f;
 }
 
 /* The z plane and the factors, in the caller's buffer. */
@@ -101,8 +103,20 @@ static void make_view(const mirror_depth *d, float *buf, depth_view *w)
 static void test_depths(const float *restrict z, int n, float *restrict out)
 {
     for (int u = 0; u < n; u++) {
-        out[u * 2] = z[u] > 0.0f ? z[u] + mirror_occlusion_margin_m(z[u]) : 0.0f;
+        float t = z[u] + mirror_occlusion_margin_m(z[u]);
+        out[u * 2] = z[u] > 0.0f ? t : 0.0f;
         out[u * 2 + 1] = 0.0f;
+    }
+}
+
+/* The shades of row v's block anchors (its even pixels; v even), 0 where there is no reading:
+ * every anchor shaded, without a branch, so that the loop is vectorised. */
+static void anchor_shades(const depth_view *w, int v, int width, float *restrict orow)
+{
+    const float *zrow = w->z + (size_t)v * w->stride;
+    for (int u = 0; u < width; u += 2) {
+        float z = zrow[u], s = shade(w, &zrow[u], u, v, z);
+        orow[u * 2 + 1] = z > 0.0f ? s : 0.0f;
     }
 }
 
@@ -129,17 +143,17 @@ int mirror_person_image(const mirror_depth *d, float **buf, int *cap)
         float *orow = out + (size_t)v * d->width * 2;
         const float *srow = out + (size_t)(v & ~1) * d->width * 2;
         test_depths(zrow, d->width, orow);
-        for (int u = 0; u < d->width; u++) {
-            float z = zrow[u], *o = &orow[u * 2];
+        if (!(v & 1))
+            anchor_shades(&w, v, d->width, orow);
+        /* shading is smooth at the normals' 3-pixel scale: one shade per 2x2 block, taken from
+         * the block's first pixel where it lies on the same surface (4x less work) */
+        for (int u = (v & 1) ? 0 : 1; u < d->width; u += (v & 1) ? 1 : 2) {
+            float z = zrow[u], za = arow[u & ~1];
             if (z == 0.0f)
                 continue;
-            /* shading is smooth at the normals' 3-pixel scale: one shade per 2x2 block, taken
-             * from the block's first pixel where it lies on the same surface (4x less work) */
-            int au = u & ~1;
-            float za = arow[au];
-            o[1] = (au != u || arow != zrow) && za > 0.0f && fabsf(za - z) < MIRROR_EDGE_JUMP * z
-                       ? srow[au * 2 + 1]
-                       : shade(&w, &zrow[u], u, v, z);
+            orow[u * 2 + 1] = za > 0.0f && fabsf(za - z) < MIRROR_EDGE_JUMP * z
+                                  ? srow[(u & ~1) * 2 + 1]
+                                  : shade(&w, &zrow[u], u, v, z);
         }
     }
     return 0;
