@@ -12,6 +12,10 @@
 #    on a private bus, MIRRORCPU_FIG_RUNS times (2) per build: TIMING mirror/cpu p50 and p95
 #    (tryon-profile: a frame drawn, llvmpipe's thread too), frames drawn, and the process's CPU
 #    (user + system) over the session less an idle start-up (EGL, shaders), per DEPTH played.
+# 3. The pipeline (`tryon run` on the walk, all four stages real, headless, --png-every 100000),
+#    MIRRORCPU_FIG_RUNS times per build (the older tryon-mirror through TRYON_BIN_DIR, every
+#    other stage from BUILD_DIR): TIMING mirror/cpu p50, frames drawn and dropped, the launcher's
+#    CPU seconds for tryon-mirror.
 # Environment: MIRRORCPU_FIG_RUNS (2), MIRRORCPU_FIG_FRAMES (150), MIRRORCPU_FIG_BODY_VERTS (6000).
 set -euo pipefail
 build=${1:?usage: mirrorcpu_figures.sh BUILD_DIR [BEFORE_DIR]}
@@ -99,5 +103,17 @@ for r in $(seq "$runs"); do
         echo "-- $b, load average $(cut -d' ' -f1 /proc/loadavg): start-up $idle s; $res"
         awk -v t="$total" -v i="$idle" -v n="$depths" \
             'BEGIN { printf "   CPU less start-up: %.2f s, %.2f ms a DEPTH\n", t - i, 1000 * (t - i) / n }'
+    done
+done
+
+echo "== the pipeline (tryon run, headless, all four stages real), $(date -u +%H:%M) UTC"
+for r in $(seq "$runs"); do
+    for b in "${builds[@]}"; do
+        out=$(mktemp -d)
+        echo "-- $b, load average $(cut -d' ' -f1 /proc/loadavg)"
+        env -u TRYON_LCM_URL -u TRYON_CHANNEL_PREFIX TRYON_BIN_DIR="$b" "$(bin tryon)" run "$rec" \
+            --body bodyfit --backend c --headless --out "$out" --png-every 100000 2>/dev/null |
+            grep -E '^(sim|mirror) |mirror/cpu|tryon-mirror ' || true
+        rm -rf "$out"
     done
 done
