@@ -1,14 +1,17 @@
 /* tryon-bench-mirror: one frame's cost in the mirror's renderer, headless (EGL surfaceless,
  * llvmpipe with LP_NUM_THREADS=1 unless set): a person-sized depth image and a garment of about
- * 7,000 vertices, drawn at a picture size, then read back as a PNG or video writer would; the
- * process's CPU time over the same frames (the draw's wall time on a busy machine is mostly
- * waiting for a core), and the person's image on the CPU alone (mirror_person_image).
+ * 7,000 vertices, drawn at a picture size. Three costs, each as tryon-mirror pays it: the frame
+ * drawn (the person's image made beforehand, as the depth ring makes it when DEPTH arrives), the
+ * read-back a PNG or video frame needs (only those frames pay it), and the person's image on the
+ * CPU (once a DEPTH). CPU time is the process's, every thread (the draw's wall time on a busy
+ * machine is mostly waiting for a core); page faults are the process's minor faults a frame.
  * A human table, then one line of JSON. */
 #include <GLES3/gl3.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include "mirror.h"
@@ -36,20 +39,25 @@ static double cpu_ms(void)
     return (double)clock() * 1e3 / CLOCKS_PER_SEC; /* every thread of the process */
 }
 
-/* mirror_person_image alone, frames calls: the median ms. -1: out of memory. */
-static double person_ms(const mirror_depth *d, int frames, double *t)
+static long minor_faults(void)
 {
-    float *buf = NULL;
-    int cap = 0;
+    struct rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_minflt;
+}
+
+/* mirror_person_image alone, frames calls into *buf: the median ms of wall time, and the CPU ms
+ * a call in t[frames]. -1: out of memory. */
+static double person_ms(const mirror_depth *d, int frames, double *t, float **buf, int *cap)
+{
+    double cpu0 = cpu_ms();
     for (int i = 0; i < frames; i++) {
         double t0 = now_ms();
-        if (mirror_person_image(d, &buf, &cap) < 0) {
-            free(buf);
+        if (mirror_person_image(d, buf, cap) < 0)
             return -1.0;
-        }
         t[i] = now_ms() - t0;
     }
-    free(buf);
+    t[frames] = (cpu_ms() - cpu0) / frames;
     qsort(t, (size_t)frames, sizeof *t, cmp);
     return t[frames / 2];
 }
@@ -102,6 +110,7 @@ int main(int argc, char **argv)
         }
     }
     setenv("LP_NUM_THREADS", "1", 0);
+    mirror_keep_heap(); /* as tryon-mirror */
     char err[512];
     mirror_gl *gl = mirror_gl_headless(err, sizeof err);
     mirror_renderer *r = gl ? mirror_renderer_create(w, h, err, sizeof err) : NULL;
@@ -112,7 +121,7 @@ int main(int argc, char **argv)
     uint8_t *rgb = malloc((size_t)w * h * 3);
     double *draw = malloc((size_t)frames * sizeof *draw),
            *read = malloc((size_t)frames * sizeof *read),
-           *pers = malloc((size_t)frames * sizeof *pers);
+           *pers = malloc((size_t)(frames + 1) * sizeof *pers);
     int status = 1;
     if (!r || !px || !xyz || !tris || !rgb || !draw || !read || !pers) {
         fprintf(stderr, "tryon-bench-mirror: %s\n", r ? "out of memory" : err);
@@ -122,33 +131,43 @@ int main(int argc, char **argv)
     garment(xyz, tris, COLS, ROWS);
     mirror_depth d = {DW,     DH,     F,      F,
                       319.5f, 239.5f, 0.001f, {1, 0, 0, 0, 0, -1, 0, 1, 0, 0, -1, 0, 0, 0, 0, 1},
-                      px,     0,      NULL}; /* the person made in each draw, as before */
+                      px,     0,      NULL};
+    float *image = NULL;
+    int image_cap = 0;
+    double person = person_ms(&d, frames, pers, &image, &image_cap);
+    if (person < 0.0) {
+        fprintf(stderr, "tryon-bench-mirror: out of memory for the person's image\n");
+        goto done;
+    }
+    double person_cpu = pers[frames]; /* person_ms leaves its CPU a call there */
+    d.person = image;                 /* made on arrival, as the depth ring does */
     mirror_mesh g = {xyz, COLS * ROWS, tris, COLS * (ROWS - 1) * 2, NULL};
     mirror_view v = {.depth = &d, .garment = &g, .overlay_text = "FPS 30.0\nSIM 20.0 MS\nGARMENT"};
     double cpu0 = 0.0;
+    long faults0 = 0;
     for (int i = -5; i < frames; i++) { /* five to warm up */
-        if (i == 0)
+        if (i == 0) {
             cpu0 = cpu_ms();
+            faults0 = minor_faults();
+        }
         double t0 = now_ms();
         if (mirror_render(r, &v, err, sizeof err) < 0) {
             fprintf(stderr, "tryon-bench-mirror: %s\n", err);
             goto done;
         }
         glFinish();
-        double t1 = now_ms();
+        if (i >= 0)
+            draw[i] = now_ms() - t0;
+    }
+    double draw_cpu = (cpu_ms() - cpu0) / frames;
+    double faults = (double)(minor_faults() - faults0) / frames;
+    cpu0 = cpu_ms();
+    for (int i = 0; i < frames; i++) {
+        double t0 = now_ms();
         mirror_read_rgb(r, rgb);
-        double t2 = now_ms();
-        if (i >= 0) {
-            draw[i] = t1 - t0;
-            read[i] = t2 - t1;
-        }
+        read[i] = now_ms() - t0;
     }
-    double cpu = (cpu_ms() - cpu0) / frames;
-    double person = person_ms(&d, frames, pers);
-    if (person < 0.0) {
-        fprintf(stderr, "tryon-bench-mirror: out of memory for the person's image\n");
-        goto done;
-    }
+    double read_cpu = (cpu_ms() - cpu0) / frames;
     qsort(draw, (size_t)frames, sizeof *draw, cmp);
     qsort(read, (size_t)frames, sizeof *read, cmp);
     int p95 = (int)(0.95 * (frames - 1));
@@ -157,13 +176,15 @@ int main(int argc, char **argv)
            "read p95");
     printf("%4dx%-5d %8.2f ms %7.2f ms %7.2f ms %7.2f ms\n", w, h, draw[frames / 2], draw[p95],
            read[frames / 2], read[p95]);
-    printf("CPU %.2f ms a frame drawn and read (every thread); the person's image alone %.2f ms\n",
-           cpu, person);
+    printf("CPU (every thread): a frame drawn %.2f ms (%.0f page faults), its read-back %.2f ms, "
+           "the person's image %.2f ms a DEPTH (median %.2f ms wall)\n",
+           draw_cpu, faults, read_cpu, person_cpu, person);
     printf("{\"width\": %d, \"height\": %d, \"frames\": %d, \"ms_median\": %.3f, \"ms_p95\": %.3f, "
            "\"read_ms_median\": %.3f, \"read_ms_p95\": %.3f, \"verts\": %d, \"device\": \"%s\", "
-           "\"lp_num_threads\": \"%s\", \"cpu_ms_per_frame\": %.3f, \"person_ms_median\": %.3f}\n",
+           "\"lp_num_threads\": \"%s\", \"draw_cpu_ms\": %.3f, \"draw_page_faults\": %.1f, "
+           "\"read_cpu_ms\": %.3f, \"person_cpu_ms\": %.3f, \"person_ms_median\": %.3f}\n",
            w, h, frames, draw[frames / 2], draw[p95], read[frames / 2], read[p95], COLS * ROWS,
-           device, getenv("LP_NUM_THREADS"), cpu, person);
+           device, getenv("LP_NUM_THREADS"), draw_cpu, faults, read_cpu, person_cpu, person);
     status = 0;
 done:
     free(px);
@@ -173,6 +194,7 @@ done:
     free(draw);
     free(read);
     free(pers);
+    free(image);
     mirror_renderer_destroy(r);
     mirror_gl_destroy(gl);
     return status;

@@ -166,6 +166,7 @@ int main(int argc, char **argv)
         return 2;
     }
     setenv("LP_NUM_THREADS", "1", 0); /* llvmpipe: one thread; fitting and cloth need the cores */
+    mirror_keep_heap();
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);

@@ -55,6 +55,8 @@ static void cross3(const float *a, const float *b, float *out)
 
 int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mirror_cpu_mesh *out)
 {
+    /* realloc keeps the frame before's indices: compared as they are written */
+    int changed = out->ni != m->nt * 3;
     if (mirror_cpu_mesh_reserve(out, m->nv, m->nt * 3) < 0)
         return -MIRROR_ERR_NO_MEMORY;
     for (int i = 0; i < m->nv; i++) {
@@ -79,14 +81,17 @@ int mirror_world_mesh(const mirror_mesh *m, const float rgba[4], int fit_map, mi
         for (int k = 0; k < 3; k++)
             for (int q = 0; q < 3; q++)
                 out->v[f[k]].normal[q] += n[q];
-        out->idx[t * 3 + 0] = (uint32_t)f[0];
-        out->idx[t * 3 + 1] = (uint32_t)f[1];
-        out->idx[t * 3 + 2] = (uint32_t)f[2];
+        uint32_t *o = &out->idx[t * 3];
+        changed |= o[0] != (uint32_t)f[0] || o[1] != (uint32_t)f[1] || o[2] != (uint32_t)f[2];
+        o[0] = (uint32_t)f[0];
+        o[1] = (uint32_t)f[1];
+        o[2] = (uint32_t)f[2];
     }
     for (int i = 0; i < m->nv; i++)
         normalize3(out->v[i].normal);
     out->nv = m->nv;
     out->ni = m->nt * 3;
+    out->idx_changed = changed;
     return 0;
 }
 

@@ -7,29 +7,26 @@
 
 #include "render_private.h"
 
+/* Two-sided Lambert with the light at the camera (a kiosk lit from the screen), per vertex: the
+ * garment's 7,000 vertices are finer than its shading varies, and a triangle carries 4 values to
+ * interpolate instead of 7 (llvmpipe sets each up per triangle). */
 static const char *mesh_vs = "#version 300 es\n"
                              "uniform mat4 u_mvp;\n"
                              "uniform mat4 u_view;\n"
                              "in vec3 a_pos;\n"
                              "in vec3 a_normal;\n"
                              "in vec4 a_rgba;\n"
-                             "out vec3 v_normal;\n"
                              "out vec4 v_rgba;\n"
                              "void main() {\n"
                              "  gl_Position = u_mvp * vec4(a_pos, 1.0);\n"
-                             "  v_normal = mat3(u_view) * a_normal;\n"
-                             "  v_rgba = a_rgba;\n"
+                             "  float l = abs(normalize(mat3(u_view) * a_normal).z);\n"
+                             "  v_rgba = vec4(a_rgba.rgb * (0.3 + 0.7 * l), a_rgba.a);\n"
                              "}\n";
-/* Two-sided Lambert with the light at the camera: a kiosk lit from the screen. */
 static const char *mesh_fs = "#version 300 es\n"
                              "precision mediump float;\n"
-                             "in vec3 v_normal;\n"
                              "in vec4 v_rgba;\n"
                              "out vec4 o_rgba;\n"
-                             "void main() {\n"
-                             "  float l = abs(normalize(v_normal).z);\n"
-                             "  o_rgba = vec4(v_rgba.rgb * (0.3 + 0.7 * l), v_rgba.a);\n"
-                             "}\n";
+                             "void main() { o_rgba = v_rgba; }\n";
 static const char *quad_vs = "#version 300 es\n"
                              "in vec2 a_pos;\n"
                              "in vec2 a_uv;\n"
@@ -44,22 +41,21 @@ static const char *quad_fs = "#version 300 es\n"
 
 /* The person, per picture pixel: the depth pixel it shows (mirrored), shaded by the normal of the
  * surface around it, and written into the depth buffer at its true depth, so that the garment
- * drawn next is hidden wherever the person is in front of it. */
+ * drawn next is hidden wherever the person is in front of it. The quad covers the depth image's
+ * place in the picture and carries each corner's depth pixel (mirrored), so a fragment only
+ * truncates its interpolated coordinates: no per-fragment division or bounds test (llvmpipe runs
+ * this for every pixel of the picture). */
 static const char *person_fs =
     "#version 300 es\n"
     "precision highp float;\n"
     "uniform highp sampler2D u_person;\n" /* per depth pixel: test depth (m), shade */
-    "uniform vec4 u_fit;\n"               /* scale, left margin, picture width, picture height */
+    "uniform ivec2 u_last;\n"             /* the depth image's last column and row */
     "uniform vec2 u_clip;\n"              /* z_ndc = x + y / z */
     "uniform vec4 u_rgba;\n"
+    "in vec2 v_uv;\n" /* depth pixels, from 0 at the image's corner: >= 0 */
     "out vec4 o_rgba;\n"
     "void main() {\n"
-    "  float u = (u_fit.z - gl_FragCoord.x - u_fit.y) / u_fit.x - 0.5;\n"
-    "  float v = (u_fit.w - gl_FragCoord.y) / u_fit.x - 0.5;\n"
-    "  ivec2 p = ivec2(floor(u + 0.5), floor(v + 0.5));\n"
-    "  ivec2 size = textureSize(u_person, 0);\n"
-    "  if (p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y) discard;\n"
-    "  vec2 t = texelFetch(u_person, p, 0).rg;\n"
+    "  vec2 t = texelFetch(u_person, min(ivec2(v_uv), u_last), 0).rg;\n"
     "  if (t.r == 0.0) discard;\n"
     "  gl_FragDepth = 0.5 * (u_clip.x + u_clip.y / t.r) + 0.5;\n"
     "  o_rgba = vec4(u_rgba.rgb * (0.3 + 0.7 * t.g), 1.0);\n"
@@ -78,8 +74,12 @@ static const char *person_fs =
 #define MIRROR_PANEL_W 420 /* overlay panel, pixels at scale 1 */
 #define MIRROR_PANEL_H 120
 
+/* Buffers keep their storage between frames (glBufferSubData into it): re-specifying them each
+ * frame made llvmpipe allocate and fault in fresh pages every frame. */
 typedef struct gl_mesh {
     GLuint vao, vbo, ibo;
+    GLsizeiptr vbo_bytes, ibo_bytes; /* storage allocated */
+    int ni;                          /* indices in the ibo */
 } gl_mesh;
 
 struct mirror_renderer {
@@ -88,11 +88,12 @@ struct mirror_renderer {
     GLuint target; /* drawn into: fbo, or 0 (the window's back buffer) */
     GLuint mesh_prog, quad_prog, person_prog;
     GLint u_mvp, u_view, u_tex;
-    GLint u_person, u_fit, u_clip, u_rgba;
+    GLint u_person, u_last, u_clip, u_rgba;
     float *person_buf; /* mirror_person_image's */
     int person_cap;
     gl_mesh garment, body;
     GLuint quad_vao, quad_vbo, panel_tex, depth_tex;
+    int depth_tex_w, depth_tex_h; /* depth_tex's immutable storage, 0 = none yet */
     mirror_cpu_mesh cpu_garment, cpu_body;
     uint8_t *panel; /* RGBA MIRROR_PANEL_W x MIRROR_PANEL_H */
     uint8_t *rows;  /* glReadPixels' bottom-up RGBA */
@@ -220,19 +221,16 @@ mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t
     r->u_view = glGetUniformLocation(r->mesh_prog, "u_view");
     r->u_tex = glGetUniformLocation(r->quad_prog, "u_tex");
     r->u_person = glGetUniformLocation(r->person_prog, "u_person");
-    r->u_fit = glGetUniformLocation(r->person_prog, "u_fit");
+    r->u_last = glGetUniformLocation(r->person_prog, "u_last");
     r->u_clip = glGetUniformLocation(r->person_prog, "u_clip");
     r->u_rgba = glGetUniformLocation(r->person_prog, "u_rgba");
-    glGenTextures(1, &r->depth_tex);
-    glBindTexture(GL_TEXTURE_2D, r->depth_tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     mesh_init(&r->garment);
     mesh_init(&r->body);
     glGenVertexArrays(1, &r->quad_vao);
     glGenBuffers(1, &r->quad_vbo);
     glBindVertexArray(r->quad_vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
+    glBufferData(GL_ARRAY_BUFFER, 16 * sizeof(float), NULL, GL_DYNAMIC_DRAW);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), (void *)0);
     glEnableVertexAttribArray(1);
@@ -244,6 +242,7 @@ mirror_renderer *mirror_renderer_create(int width, int height, char *err, size_t
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, MIRROR_PANEL_W, MIRROR_PANEL_H);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         snprintf(err, n, "OpenGL error 0x%x setting up the renderer", e);
@@ -279,6 +278,16 @@ void mirror_renderer_destroy(mirror_renderer *r)
     free(r);
 }
 
+/* data into buffer target's storage, grown (by half again) only when it does not fit */
+static void upload(GLenum target, GLsizeiptr *cap, GLsizeiptr bytes, const void *data)
+{
+    if (bytes > *cap) {
+        *cap = bytes + bytes / 2;
+        glBufferData(target, *cap, NULL, GL_DYNAMIC_DRAW);
+    }
+    glBufferSubData(target, 0, bytes, data);
+}
+
 static void draw(mirror_renderer *r, gl_mesh *g, const mirror_cpu_mesh *m, const float mvp[16],
                  const float view[16])
 {
@@ -286,10 +295,12 @@ static void draw(mirror_renderer *r, gl_mesh *g, const mirror_cpu_mesh *m, const
         return;
     glBindVertexArray(g->vao);
     glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)m->nv * (GLsizeiptr)sizeof *m->v, m->v,
-                 GL_STREAM_DRAW);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)m->ni * (GLsizeiptr)sizeof *m->idx, m->idx,
-                 GL_STREAM_DRAW);
+    upload(GL_ARRAY_BUFFER, &g->vbo_bytes, (GLsizeiptr)m->nv * (GLsizeiptr)sizeof *m->v, m->v);
+    if (m->idx_changed || g->ni != m->ni) { /* triangles change only with the topology */
+        upload(GL_ELEMENT_ARRAY_BUFFER, &g->ibo_bytes,
+               (GLsizeiptr)m->ni * (GLsizeiptr)sizeof *m->idx, m->idx);
+        g->ni = m->ni;
+    }
     glUniformMatrix4fv(r->u_mvp, 1, GL_TRUE, mvp);
     glUniformMatrix4fv(r->u_view, 1, GL_TRUE, view);
     glDrawElements(GL_TRIANGLES, m->ni, GL_UNSIGNED_INT, 0);
@@ -299,7 +310,7 @@ static void quad(mirror_renderer *r, const float xyuv[16])
 {
     glBindVertexArray(r->quad_vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
-    glBufferData(GL_ARRAY_BUFFER, 16 * sizeof *xyuv, xyuv, GL_STREAM_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, 16 * sizeof *xyuv, xyuv);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 }
 
@@ -314,16 +325,33 @@ static int person(mirror_renderer *r, const mirror_depth *d, const float proj[16
     float s, offx;
     mirror_picture_fit(d, r->w, r->h, &s, &offx);
     glActiveTexture(GL_TEXTURE0);
+    if (d->width != r->depth_tex_w || d->height != r->depth_tex_h) {
+        /* immutable storage, made again only when the depth image's size changes: re-specifying
+         * 2.4 MB each frame cost llvmpipe fresh pages every frame */
+        glDeleteTextures(1, &r->depth_tex);
+        glGenTextures(1, &r->depth_tex);
+        glBindTexture(GL_TEXTURE_2D, r->depth_tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RG32F, d->width, d->height);
+        r->depth_tex_w = d->width;
+        r->depth_tex_h = d->height;
+    }
     glBindTexture(GL_TEXTURE_2D, r->depth_tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, d->width, d->height, 0, GL_RG, GL_FLOAT, image);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, d->width, d->height, GL_RG, GL_FLOAT, image);
     glUseProgram(r->person_prog);
     glUniform1i(r->u_person, 0);
-    glUniform4f(r->u_fit, s, offx, (float)r->w, (float)r->h);
+    glUniform2i(r->u_last, d->width - 1, d->height - 1);
     glUniform2f(r->u_clip, proj[10], proj[11]);
     glUniform4f(r->u_rgba, MIRROR_PERSON_RGBA);
-    static const float full[16] = {-1, -1, 0, 0, 1, -1, 0, 0, -1, 1, 0, 0, 1, 1, 0, 0};
-    quad(r, full);
+    /* picture pixel x shows depth column (w - x - offx) / s - 1/2 (mirror_projection): the left
+     * edge of the image's place shows the far edge of the last column, the right edge column 0;
+     * rows run top to bottom, the picture's y bottom to top */
+    float x0 = 2.0f * offx / (float)r->w - 1.0f, x1 = 2.0f * (offx + s * d->width) / r->w - 1.0f;
+    float u = (float)d->width, v = (float)d->height;
+    const float xyuv[16] = {x0, -1, u, v, x1, -1, 0, v, x0, 1, u, 0, x1, 1, 0, 0};
+    quad(r, xyuv);
     return 0;
 }
 
@@ -360,7 +388,7 @@ static void overlay(mirror_renderer *r, const char *text, int fit_map)
         widest = widest > 104 ? widest : 104;
     }
     (void)lines;
-    int pw = widest + 8, ph = y + 2;
+    int pw = widest + 8, ph = y + 2 < MIRROR_PANEL_H ? y + 2 : MIRROR_PANEL_H;
     for (int yy = 0; yy < ph; yy++) /* a dark backing behind the text */
         for (int x = 0; x < pw; x++) {
             uint8_t *q = &r->panel[(yy * MIRROR_PANEL_W + x) * 4];
@@ -369,8 +397,9 @@ static void overlay(mirror_renderer *r, const char *text, int fit_map)
         }
     int scale = r->h >= 600 ? 2 : 1;
     glBindTexture(GL_TEXTURE_2D, r->panel_tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, MIRROR_PANEL_W, MIRROR_PANEL_H, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, r->panel);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, MIRROR_PANEL_W, ph, GL_RGBA, GL_UNSIGNED_BYTE,
+                    r->panel); /* the rows drawn on: the quad samples no others */
     float x0 = -1.0f, y0 = 1.0f, x1 = -1.0f + 2.0f * (float)(pw * scale) / (float)r->w;
     float y1 = 1.0f - 2.0f * (float)(ph * scale) / (float)r->h;
     float u1 = (float)pw / MIRROR_PANEL_W, v1 = (float)ph / MIRROR_PANEL_H;
@@ -397,12 +426,13 @@ int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t n)
         mirror_world_to_camera(v->depth->camera_to_world, w2c);
         mirror_mat_mul(proj, w2c, mvp);
         glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
         glDisable(GL_CULL_FACE); /* the mirror flip turns every winding around */
+        glDepthFunc(GL_ALWAYS);  /* the person is first over the cleared picture: no test */
         if (person(r, v->depth, proj) < 0) {
             snprintf(err, n, "out of memory for the person's image");
             return -MIRROR_ERR_NO_MEMORY;
         }
+        glDepthFunc(GL_LESS);
         glUseProgram(r->mesh_prog);
         if (v->garment) {
             float rgba[4] = MIRROR_GARMENT_RGBA;

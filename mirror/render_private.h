@@ -14,6 +14,7 @@ typedef struct mirror_cpu_mesh {
     mirror_vertex *v;
     uint32_t *idx;
     int nv, ni, v_cap, i_cap;
+    int idx_changed; /* idx differs from the frame before's (mirror_world_mesh) */
 } mirror_cpu_mesh;
 int mirror_cpu_mesh_reserve(mirror_cpu_mesh *m, int nv, int ni);
 void mirror_cpu_mesh_free(mirror_cpu_mesh *m);
