@@ -20,7 +20,7 @@
 #include "support.h"
 
 typedef struct counts {
-    int cloth, timing, cloth_with_tris, nv, last_seq;
+    int cloth, timing, cloth_with_tris, nv, last_seq, before_last_seq;
     int topology, garments; /* the last CLOTH's topology_id, and how many ids were seen */
 } counts;
 
@@ -32,6 +32,7 @@ static void on_cloth(const char *ch, const void *m, void *user)
     n->cloth++;
     n->cloth_with_tris += c->num_triangle_indices > 0;
     n->nv = c->num_vertex_coords / 3;
+    n->before_last_seq = n->last_seq;
     n->last_seq = c->seq;
     n->garments += c->topology_id != n->topology;
     n->topology = c->topology_id;
@@ -204,15 +205,18 @@ static void test_sim_process_auto_backend(void **state)
     free(log);
 }
 
-/* --queue latest (the default): a burst of bodies faster than the sim is collapsed to the
- * newest, so the cloth published last is the last body's and latency does not pile up. */
-static void test_sim_process_latest_body_wins(void **state)
+/* A burst of bodies faster than the sim is collapsed to the newest `depth` (--queue latest: 1;
+ * the default: 2), simulated in order, so the cloth published last is the last body's and
+ * latency does not pile up. */
+static void burst_keeps_the_newest(int depth)
 {
-    (void)state;
     session s;
     /* a heavy enough garment that one frame outlasts the burst */
-    session_start(&s, "latest",
-                  (char *[]){"--backend", "c", "--verts", "6000", "--iterations", "60", NULL});
+    session_start(
+        &s, "latest",
+        depth == 1 ? (char *[]){"--backend", "c", "--verts", "6000", "--iterations", "60",
+                                "--queue", "latest", NULL}
+                   : (char *[]){"--backend", "c", "--verts", "6000", "--iterations", "60", NULL});
     int before = s.n.cloth;
     const int burst = 30;
     for (int k = 0; k < burst; k++)
@@ -226,9 +230,20 @@ static void test_sim_process_latest_body_wins(void **state)
     assert_int_equal(status, 0);
     assert_int_equal(s.n.last_seq, s.seq - 1); /* the newest body was simulated */
     assert_true(s.n.cloth - before < burst);   /* and not every one before it */
+    if (depth == 2)                            /* the one before it waited, and went first */
+        assert_int_equal(s.n.before_last_seq, s.seq - 2);
+    else
+        assert_true(s.n.before_last_seq < s.seq - 2);
     assert_non_null(log);
     assert_null(strstr(log, " 0 superseded"));
     free(log);
+}
+
+static void test_sim_process_latest_body_wins(void **state)
+{
+    (void)state;
+    burst_keeps_the_newest(1);
+    burst_keeps_the_newest(2);
 }
 
 /* --stats FILE: a header, then one CSV line of 14 fields per simulated body (as many as CLOTH
