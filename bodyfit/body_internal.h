@@ -117,6 +117,17 @@ static inline float body_dot(const float a[3], const float b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
+/* fminf and fmaxf for numbers that are never NaN: the libm calls are not inlined without
+ * -ffinite-math-only (NaN's rule), and the body's implicit surface takes the minimum of its
+ * primitives a million times a model (12 % of building one). The same result otherwise. */
+static inline float body_minf(float a, float b)
+{
+    return b < a ? b : a;
+}
+static inline float body_maxf(float a, float b)
+{
+    return b > a ? b : a;
+}
 static inline float body_smoothstep(float lo, float hi, float x)
 {
     float t = (x - lo) / (hi - lo);

@@ -19,11 +19,24 @@ int fail(const char *what, const cv::Exception &e, char *err, size_t errlen)
     return -1;
 }
 
+// One thread for OpenCV: the images are 320x240 and the pipeline's four processes share two
+// cores, so a parallel_for's worker threads (TBB here) only add their start, wait and yield to
+// every call (docs/bodyfit.md, "CPU a frame in the pipeline"). Set once, before the first call.
+void single_thread()
+{
+    static const bool done = [] {
+        cv::setNumThreads(0);
+        return true;
+    }();
+    (void)done;
+}
+
 } // namespace
 
 extern "C" int cvs_depth_edges(const float *depth_m, int width, int height, float jump_m,
                                uint8_t *out, char *err, size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat d(height, width, CV_32F, const_cast<float *>(depth_m));
         // Missing readings must not count as near (for the max) nor as far (for the min).
@@ -48,6 +61,7 @@ extern "C" int cvs_components(const uint8_t *mask, int width, int height, int32_
                               cvs_component *comps, int max_comps, int *count, char *err,
                               size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask));
         cv::Mat lab(height, width, CV_32S, labels), stats, centroids;
@@ -70,6 +84,7 @@ extern "C" int cvs_components(const uint8_t *mask, int width, int height, int32_
 extern "C" int cvs_dilate(const uint8_t *mask, int width, int height, int radius, uint8_t *out,
                           char *err, size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask)), o(height, width, CV_8U, out);
         cv::Mat k =
@@ -85,6 +100,7 @@ extern "C" int cvs_dilate(const uint8_t *mask, int width, int height, int radius
 extern "C" int cvs_nearest_set(const uint8_t *mask, int width, int height, int margin,
                                int32_t *nearest, int roi[4], char *err, size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask));
         std::fill(nearest, nearest + (size_t)width * height, -1);

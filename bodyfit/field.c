@@ -209,8 +209,8 @@ static float torso_dist(const body_field *f, const float p[3])
     float a, b, z, r = p[1] > mid ? f->torso_round_top : f->torso_round;
     torso_section(f, p[1], &a, &b, &z);
     float de = ellipse_dist(p[0], p[2] - z, a, b) + r;
-    float dc = fmaxf(f->torso_lo - p[1], p[1] - f->torso_hi) + r;
-    float d = (de > 0.0f && dc > 0.0f) ? sqrtf(de * de + dc * dc) : fmaxf(de, dc);
+    float dc = body_maxf(f->torso_lo - p[1], p[1] - f->torso_hi) + r;
+    float d = (de > 0.0f && dc > 0.0f) ? sqrtf(de * de + dc * dc) : body_maxf(de, dc);
     return d - r;
 }
 
@@ -231,7 +231,7 @@ float body_field_eval(const body_field *f, const float p[3])
     int n = prim_dists(f, p, d);
     float mn = d[0];
     for (int i = 1; i < n; ++i)
-        mn = fminf(mn, d[i]);
+        mn = body_minf(mn, d[i]);
     float k = f->blend, sum = 0.0f;
     for (int i = 0; i < n; ++i) {
         float e = (d[i] - mn) / k;
@@ -293,7 +293,7 @@ void body_field_joint_weights(const body_field *f, const float p[3], float w[FIT
     int n = prim_dists(f, p, d);
     float mn = d[0], sum = 0.0f;
     for (int i = 1; i < n; ++i)
-        mn = fminf(mn, d[i]);
+        mn = body_minf(mn, d[i]);
     for (int i = 0; i < n; ++i) {
         float e = (d[i] - mn) / f->skin_sigma;
         s[i] = e < 20.0f ? expf(-e) : 0.0f;
