@@ -38,19 +38,22 @@ extern "C" int cvs_depth_edges(const float *depth_m, int width, int height, floa
 {
     single_thread();
     try {
+        // Two passes of OpenCV (the 3x3 max and min) and two plain loops: a missing reading
+        // must not count as near (for the max: 0 is below every reading) nor as far (for the
+        // min: it becomes 1e6). The masks and differences as whole images cost 9 passes more.
+        const size_t n = (size_t)width * (size_t)height;
         cv::Mat d(height, width, CV_32F, const_cast<float *>(depth_m));
-        // Missing readings must not count as near (for the max) nor as far (for the min).
-        cv::Mat valid = d > 0.0f;
-        cv::Mat for_min = d.clone();
-        for_min.setTo(1e6f, ~valid);
+        cv::Mat for_min(height, width, CV_32F);
+        float *fm = for_min.ptr<float>();
+        for (size_t i = 0; i < n; ++i)
+            fm[i] = depth_m[i] > 0.0f ? depth_m[i] : 1e6f;
         cv::Mat hi, lo;
         cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
         cv::dilate(d, hi, k);
         cv::erode(for_min, lo, k);
-        cv::Mat edge = ((hi - lo) > jump_m) & valid;
-        cv::Mat o(height, width, CV_8U, out);
-        o.setTo(0);
-        o.setTo(1, edge);
+        const float *h = hi.ptr<float>(), *l = lo.ptr<float>();
+        for (size_t i = 0; i < n; ++i)
+            out[i] = depth_m[i] > 0.0f && h[i] - l[i] > jump_m;
         return 0;
     } catch (const cv::Exception &e) {
         return fail("cvs_depth_edges", e, err, errlen);

@@ -100,8 +100,8 @@ static int grid_build(fit_solver *s, grid *g, const float cam[3])
             continue;
         ++nf;
         for (int k = 0; k < 3; ++k) {
-            g->lo[k] = fminf(g->lo[k], p[k]);
-            hi[k] = fmaxf(hi[k], p[k]);
+            g->lo[k] = body_minf(g->lo[k], p[k]);
+            hi[k] = body_maxf(hi[k], p[k]);
         }
     }
     if (!nf)
