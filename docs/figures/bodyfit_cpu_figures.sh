@@ -8,7 +8,10 @@
 #      (cpu_ms_median; this build also every thread's and each sub-stage's);
 #   3. the pipeline: `tryon run` on the same walk, headless, the C sim; the launcher's CPU line
 #      for tryon-bodyfit over the bodies it published (what "CPU s / frames" measured) and,
-#      this build only, tryon-bodyfit's own last line (starting / a body / a DEPTH).
+#      this build only, tryon-bodyfit's own last line (starting / a body / a DEPTH);
+#   4. what no load changes (FIT_CPU_CALLGRIND=0 skips it; about 2 minutes a build): the
+#      instructions `valgrind --tool=callgrind` counts in tryon-bench-fit's first 31 frames of
+#      the walk, inclusive, for building the tracker's models and for each frame's fit.
 # usage: docs/figures/bodyfit_cpu_figures.sh BUILD_DIR   (output in BUILD_DIR/fit-cpu/)
 set -eu
 B=${1:-build}
@@ -70,4 +73,20 @@ while [ "$i" -lt "$RUNS" ]; do
     pipeline $which "$bin" >> "$OUT/pipeline.txt"
   done
 done
-cat "$OUT/start.txt" "$OUT/bench.txt" "$OUT/pipeline.txt"
+if [ "${FIT_CPU_CALLGRIND:-1}" = 1 ] && command -v valgrind >/dev/null; then
+  : > "$OUT/instructions.txt"
+  for which in base this; do
+    if [ $which = base ]; then bin=$base/build/bodyfit; else bin=$B/bodyfit; fi
+    valgrind --tool=callgrind --callgrind-out-file="$OUT/callgrind.$which" \
+      "$bin/tryon-bench-fit" --frames 31 "$rec" >/dev/null 2>&1
+    callgrind_annotate --inclusive=yes "$OUT/callgrind.$which" 2>/dev/null | awk -v w=$which '
+      { gsub(",", "", $1) }
+      / [?]+:fit_tracker_create / { c = $1 } / [?]+:fit_tracker_frame / { f = $1 }
+      / [?]+:fit_segmenter_frame / { s = $1 } / [?]+:fit_solve / { v = $1 }
+      / [?]+:cvs_nearest_set / { n = $1 }
+      END { printf "%s: Minstr building the models %.0f; a frame (31, the first included): " \
+            "fit %.1f, of which segmenter %.1f, nearest set %.1f, solver %.1f\n", w, c / 1e6,
+            f / 31e6, s / 31e6, n / 31e6, v / 31e6 }' >> "$OUT/instructions.txt"
+  done
+fi
+cat "$OUT"/start.txt "$OUT"/bench.txt "$OUT"/pipeline.txt "$OUT"/instructions.txt 2>/dev/null
