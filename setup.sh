@@ -21,7 +21,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     clang-14 libclang-rt-14-dev libsodium-dev
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libsdl2-dev libpng-dev
     xvfb xauth ffmpeg libcjson-dev
-    assimp-testmodels libopencv-dev)
+    assimp-testmodels libopencv-dev time valgrind)
 
 as_root() {
     if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi

@@ -19,25 +19,41 @@ int fail(const char *what, const cv::Exception &e, char *err, size_t errlen)
     return -1;
 }
 
+// One thread for OpenCV: the images are 320x240 and the pipeline's four processes share two
+// cores, so a parallel_for's worker threads (TBB here) only add their start, wait and yield to
+// every call (docs/bodyfit.md, "CPU a frame in the pipeline"). Set once, before the first call.
+void single_thread()
+{
+    static const bool done = [] {
+        cv::setNumThreads(0);
+        return true;
+    }();
+    (void)done;
+}
+
 } // namespace
 
 extern "C" int cvs_depth_edges(const float *depth_m, int width, int height, float jump_m,
                                uint8_t *out, char *err, size_t errlen)
 {
+    single_thread();
     try {
+        // Two passes of OpenCV (the 3x3 max and min) and two plain loops: a missing reading
+        // must not count as near (for the max: 0 is below every reading) nor as far (for the
+        // min: it becomes 1e6). The masks and differences as whole images cost 9 passes more.
+        const size_t n = (size_t)width * (size_t)height;
         cv::Mat d(height, width, CV_32F, const_cast<float *>(depth_m));
-        // Missing readings must not count as near (for the max) nor as far (for the min).
-        cv::Mat valid = d > 0.0f;
-        cv::Mat for_min = d.clone();
-        for_min.setTo(1e6f, ~valid);
+        cv::Mat for_min(height, width, CV_32F);
+        float *fm = for_min.ptr<float>();
+        for (size_t i = 0; i < n; ++i)
+            fm[i] = depth_m[i] > 0.0f ? depth_m[i] : 1e6f;
         cv::Mat hi, lo;
         cv::Mat k = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
         cv::dilate(d, hi, k);
         cv::erode(for_min, lo, k);
-        cv::Mat edge = ((hi - lo) > jump_m) & valid;
-        cv::Mat o(height, width, CV_8U, out);
-        o.setTo(0);
-        o.setTo(1, edge);
+        const float *h = hi.ptr<float>(), *l = lo.ptr<float>();
+        for (size_t i = 0; i < n; ++i)
+            out[i] = depth_m[i] > 0.0f && h[i] - l[i] > jump_m;
         return 0;
     } catch (const cv::Exception &e) {
         return fail("cvs_depth_edges", e, err, errlen);
@@ -48,6 +64,7 @@ extern "C" int cvs_components(const uint8_t *mask, int width, int height, int32_
                               cvs_component *comps, int max_comps, int *count, char *err,
                               size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask));
         cv::Mat lab(height, width, CV_32S, labels), stats, centroids;
@@ -70,6 +87,7 @@ extern "C" int cvs_components(const uint8_t *mask, int width, int height, int32_
 extern "C" int cvs_dilate(const uint8_t *mask, int width, int height, int radius, uint8_t *out,
                           char *err, size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask)), o(height, width, CV_8U, out);
         cv::Mat k =
@@ -85,6 +103,7 @@ extern "C" int cvs_dilate(const uint8_t *mask, int width, int height, int radius
 extern "C" int cvs_nearest_set(const uint8_t *mask, int width, int height, int margin,
                                int32_t *nearest, int roi[4], char *err, size_t errlen)
 {
+    single_thread();
     try {
         cv::Mat m(height, width, CV_8U, const_cast<uint8_t *>(mask));
         std::fill(nearest, nearest + (size_t)width * height, -1);

@@ -28,6 +28,10 @@ typedef struct fitp {
     long published, skipped, bad, last_triangles_seq, last_topology;
     long doubted, doubt_spells; /* frames published doubtful (fit_result.doubt), and runs of them */
     unsigned last_doubt;
+    /* Where the process's CPU goes (every thread, us): starting (building the models), and
+     * fitting and publishing; the rest is receiving, checking and copying DEPTH. */
+    int64_t cpu_start, cpu_fit;
+    long received;
 } fitp;
 
 static volatile sig_atomic_t stop;
@@ -54,6 +58,7 @@ static void on_depth(const char *channel, const void *msg, void *user)
         p->data_cap = (size_t)f->num_bytes;
     }
     p->skipped += p->have_pending;
+    p->received++;
     p->pending = *f;
     memcpy(p->data, f->data, (size_t)f->num_bytes);
     p->pending.data = p->data;
@@ -112,6 +117,7 @@ static void publish(fitp *p, const tryon_depth_frame_t *f, const fit_result *r, 
 
 static void fit_pending(fitp *p)
 {
+    int64_t cpu0 = bus_now_cpu_us();
     tryon_depth_frame_t *f = &p->pending;
     p->have_pending = 0;
     bus_timing timing;
@@ -145,9 +151,24 @@ static void fit_pending(fitp *p)
         }
     }
     p->last_doubt = r.doubt;
+    int64_t cpu = bus_now_cpu_us() - cpu0; /* the fit's, every thread (OpenCV's too) */
+    bus_timing_add(&timing, "cpu", (float)cpu / 1000.0f);
     publish(p, f, &r, &timing);
+    p->cpu_fit += bus_now_cpu_us() - cpu0;
     if (p->max_frames > 0 && p->published >= p->max_frames)
         stop = 1;
+}
+
+/* Where the CPU went (docs/bodyfit.md, "CPU a frame in the pipeline"). */
+static void print_cpu(const fitp *p)
+{
+    double rest = (double)(bus_now_cpu_us() - p->cpu_start - p->cpu_fit) / 1000.0;
+    fprintf(stderr,
+            "tryon-bodyfit: CPU %.0f ms starting (building the models), %.2f ms a body fitted and "
+            "published (%ld), %.2f ms a DEPTH received (%ld, with the waiting between them)\n",
+            (double)p->cpu_start / 1000.0,
+            p->published ? (double)p->cpu_fit / 1000.0 / (double)p->published : 0.0, p->published,
+            p->received ? rest / (double)p->received : 0.0, p->received);
 }
 
 static void usage(FILE *f)
@@ -155,9 +176,11 @@ static void usage(FILE *f)
     fprintf(f, "usage: tryon-bodyfit [--frames N] [--triangles-every N] [--queue latest|all]\n");
     fit_tracker_options_usage(f, 21);
     fprintf(f, "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
-               "state init/tracking/lost) and TIMING (segment, fit, skin). When it falls behind,\n"
-               "the newest frame wins (--queue all: every frame is fitted, in order). --frames:\n"
-               "exit after N bodies. --triangles-every: the triangles with every Nth body (30).\n");
+               "state init/tracking/lost) and TIMING (segment, fit, skin; cpu: the frame's CPU\n"
+               "time, every thread). When it falls behind, the newest frame wins (--queue all:\n"
+               "every frame is fitted, in order). --frames: exit after N bodies.\n"
+               "--triangles-every: the triangles with every Nth body (30). At the end, where the\n"
+               "CPU went: starting, a body fitted and published, a DEPTH received.\n");
     fit_tracker_options_help(f);
     fprintf(f, "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
 }
@@ -221,6 +244,7 @@ int main(int argc, char **argv)
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     fprintf(stderr, "tryon-bodyfit: listening on %s -> %s\n", depth_channel, p.body_channel);
+    p.cpu_start = bus_now_cpu_us();
     while (!stop) {
         if (lcm_handle_timeout(p.lcm, 100) <= 0)
             continue;
@@ -234,6 +258,7 @@ int main(int argc, char **argv)
             "frames, %ld doubtful fits (runs of them: %ld), %llu DEPTH messages rejected\n",
             p.published, p.skipped, p.bad, p.doubted, p.doubt_spells,
             (unsigned long long)bus_sub_stats(sub)->rejected);
+    print_cpu(&p);
     rc = 0;
 done:
     bus_unsubscribe(p.lcm, sub);

@@ -32,6 +32,7 @@ struct fit_solver {
     float *pos, *nrm;
     uint8_t *front;
     int32_t *cell_start, *cell_items, *match;
+    float *cell_pos; /* the position of cell_items[e] at cell_pos + 3 e: read in order */
     float *match_w, *match_r;
     int ncells_cap, match_cap, match_n;
 };
@@ -47,9 +48,10 @@ fit_solver *fit_solver_create(const fit_model *coarse)
     s->nrm = malloc((size_t)nv * 3 * sizeof(float));
     s->front = malloc((size_t)nv);
     s->cell_items = malloc((size_t)nv * sizeof(int32_t));
+    s->cell_pos = malloc((size_t)nv * 3 * sizeof(float));
     s->ncells_cap = 64 * 64 * 64;
     s->cell_start = malloc(((size_t)s->ncells_cap + 1) * sizeof(int32_t));
-    if (!s->pos || !s->nrm || !s->front || !s->cell_items || !s->cell_start) {
+    if (!s->pos || !s->nrm || !s->front || !s->cell_items || !s->cell_pos || !s->cell_start) {
         fit_solver_destroy(s);
         return NULL;
     }
@@ -64,6 +66,7 @@ void fit_solver_destroy(fit_solver *s)
     free(s->nrm);
     free(s->front);
     free(s->cell_items);
+    free(s->cell_pos);
     free(s->cell_start);
     free(s->match);
     free(s->match_w);
@@ -100,8 +103,8 @@ static int grid_build(fit_solver *s, grid *g, const float cam[3])
             continue;
         ++nf;
         for (int k = 0; k < 3; ++k) {
-            g->lo[k] = fminf(g->lo[k], p[k]);
-            hi[k] = fmaxf(hi[k], p[k]);
+            g->lo[k] = body_minf(g->lo[k], p[k]);
+            hi[k] = body_maxf(hi[k], p[k]);
         }
     }
     if (!nf)
@@ -123,8 +126,9 @@ static int grid_build(fit_solver *s, grid *g, const float cam[3])
         s->cell_start[k + 1] += s->cell_start[k];
     for (int i = 0; i < nv; ++i)
         if (s->front[i]) {
-            int cell = cell_of(g, s->pos + (size_t)i * 3, c);
-            s->cell_items[s->cell_start[cell]++] = i;
+            int cell = cell_of(g, s->pos + (size_t)i * 3, c), e = s->cell_start[cell]++;
+            s->cell_items[e] = i;
+            memcpy(s->cell_pos + (size_t)e * 3, s->pos + (size_t)i * 3, 3 * sizeof(float));
         }
     for (long k = cells; k > 0; --k)
         s->cell_start[k] = s->cell_start[k - 1];
@@ -132,38 +136,44 @@ static int grid_build(fit_solver *s, grid *g, const float cam[3])
     return 0;
 }
 
+/* The nearest camera-facing vertex within a cell of p (d2_out: its squared distance), or -1.
+ * The 3 x 3 x 3 cells around p's, clipped to the grid: a row of 3 cells is consecutive, and so
+ * are their vertices (cell_items, cell_pos), so each row is one run; the vertices are seen in
+ * the same order as cell by cell (a tie keeps the first). */
 static int grid_nearest(const fit_solver *s, const grid *g, const float *p, float *d2_out)
 {
-    int c[3], best = -1;
+    int c[3], lo[3], hi[3], best = -1;
     float best_d2 = SOLVE_CELL_M * SOLVE_CELL_M;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
         c[k] = (int)floorf((p[k] - g->lo[k]) / SOLVE_CELL_M);
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                if (x < 0 || y < 0 || z < 0 || x >= g->dim[0] || y >= g->dim[1] || z >= g->dim[2])
-                    continue;
-                int cell = (z * g->dim[1] + y) * g->dim[0] + x;
-                for (int e = s->cell_start[cell]; e < s->cell_start[cell + 1]; ++e) {
-                    const float *q = s->pos + (size_t)s->cell_items[e] * 3;
-                    float d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-                    float d2 = body_dot(d, d);
-                    if (d2 < best_d2) {
-                        best_d2 = d2;
-                        best = s->cell_items[e];
-                    }
+        lo[k] = c[k] > 0 ? c[k] - 1 : 0;
+        hi[k] = c[k] < g->dim[k] - 1 ? c[k] + 1 : g->dim[k] - 1;
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1] && lo[0] <= hi[0]; ++y) {
+            int row = (z * g->dim[1] + y) * g->dim[0];
+            int e1 = s->cell_start[row + hi[0] + 1];
+            for (int e = s->cell_start[row + lo[0]]; e < e1; ++e) {
+                const float *q = s->cell_pos + (size_t)e * 3;
+                float d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+                float d2 = body_dot(d, d);
+                if (d2 < best_d2) {
+                    best_d2 = d2;
+                    best = s->cell_items[e];
                 }
             }
+        }
     *d2_out = best_d2;
     return best;
 }
 
 /* Adds w (g . dv - r)^2 for a residual r with gradient g on the vertex to the normal equations
- * (JtJ upper triangle, Jtr). */
+ * (JtJ upper triangle, Jtr). The row's entries come in blocks of 3 consecutive parameters (the
+ * root's translation, then each joint's rotation, joints ascending): the upper triangle is the
+ * rest of a block and every later block, 3 at a time without an index per entry. */
 static void add_row(const fit_vjac *vj, const float g[3], float r, double w, double *A, double *b)
 {
-    int idx[3 + 3 * FIT_JOINT_COUNT], order[FIT_JOINT_COUNT];
+    int base[1 + FIT_JOINT_COUNT], order[FIT_JOINT_COUNT];
     double val[3 + 3 * FIT_JOINT_COUNT];
     /* The joints in ascending order (insertion sort of a handful), so that the upper triangle
      * is the pairs i <= j: no test per pair (half the cost of the fit's points). */
@@ -173,25 +183,34 @@ static void add_row(const fit_vjac *vj, const float g[3], float r, double w, dou
             order[k] = order[k - 1];
         order[k] = e;
     }
-    int n = 0;
+    int nb = 1 + vj->n;
+    base[0] = 0;
     for (int k = 0; k < 3; ++k)
-        idx[n] = k, val[n++] = g[k];
+        val[k] = g[k];
     for (int o = 0; o < vj->n; ++o) {
         int e = order[o];
         const float *bb = vj->b[e];
         /* g . (delta x b) = delta . (b x g) */
-        float c[3] = {bb[1] * g[2] - bb[2] * g[1], bb[2] * g[0] - bb[0] * g[2],
-                      bb[0] * g[1] - bb[1] * g[0]};
-        for (int k = 0; k < 3; ++k)
-            idx[n] = 3 + 3 * vj->joint[e] + k, val[n++] = c[k];
+        base[o + 1] = 3 + 3 * vj->joint[e];
+        val[3 * o + 3] = bb[1] * g[2] - bb[2] * g[1];
+        val[3 * o + 4] = bb[2] * g[0] - bb[0] * g[2];
+        val[3 * o + 5] = bb[0] * g[1] - bb[1] * g[0];
     }
-    for (int i = 0; i < n; ++i) {
-        double wv = w * val[i];
-        double *row = A + idx[i] * NP;
-        b[idx[i]] += wv * r;
-        for (int j = i; j < n; ++j)
-            row[idx[j]] += wv * val[j];
-    }
+    for (int bi = 0; bi < nb; ++bi)
+        for (int k = 0; k < 3; ++k) {
+            int i = base[bi] + k;
+            double wv = w * val[3 * bi + k], *row = A + i * NP;
+            b[i] += wv * r;
+            for (int j = k; j < 3; ++j)
+                row[base[bi] + j] += wv * val[3 * bi + j];
+            for (int bj = bi + 1; bj < nb; ++bj) {
+                double *dst = row + base[bj];
+                const double *src = val + 3 * bj;
+                dst[0] += wv * src[0];
+                dst[1] += wv * src[1];
+                dst[2] += wv * src[2];
+            }
+        }
 }
 
 typedef struct frame_ctx {

@@ -140,7 +140,9 @@ typedef struct fit_result {
     float explained, free_space;
     int unexplained_cluster; /* the most unexplained points lying together (a lost limb) */
     unsigned doubt;
-    double ms_segment, ms_fit, ms_skin;
+    double ms_segment, ms_fit, ms_skin; /* wall clock */
+    /* The same three in this thread's CPU time (what a loaded machine does not inflate). */
+    double cpu_ms_segment, cpu_ms_fit, cpu_ms_skin;
 } fit_result;
 
 typedef struct fit_tracker fit_tracker;

@@ -1,6 +1,7 @@
 /* Finding the person in a depth frame: depth to world points, flying pixels dropped, the floor
  * found by RANSAC, a background learned over time, and the person as the connected component
  * in the working volume nearest the camera's axis (docs/bodyfit.md, "Finding the person"). */
+#include "body_internal.h" /* body_minf, body_maxf */
 #include "cv_shim.h"
 #include "fit_track.h"
 
@@ -38,7 +39,7 @@ typedef struct comp_info {
 struct fit_segmenter {
     fit_segment_desc d;
     int iw, ih, w, h;
-    float *depth, *world, *points, *bg;
+    float *depth, *world, *points, *bg, *col_ray;
     uint8_t *edge, *mask, *cand;
     int32_t *labels, *valid_idx;
     cvs_component comps[SEG_MAX_COMPS];
@@ -88,6 +89,7 @@ static void seg_free_images(fit_segmenter *s)
     free(s->world);
     free(s->points);
     free(s->bg);
+    free(s->col_ray);
     free(s->edge);
     free(s->mask);
     free(s->cand);
@@ -115,36 +117,43 @@ static int seg_alloc(fit_segmenter *s, int iw, int ih)
     s->world = calloc(n * 3, sizeof(float));
     s->points = calloc(n * 3, sizeof(float));
     s->bg = calloc(n, sizeof(float));
+    s->col_ray = calloc((size_t)s->w, sizeof(float));
     s->edge = calloc(n, 1);
     s->mask = calloc(n, 1);
     s->cand = calloc(n, 1);
     s->labels = calloc(n, sizeof(int32_t));
     s->valid_idx = calloc(n, sizeof(int32_t));
-    return s->depth && s->world && s->points && s->bg && s->edge && s->mask && s->cand &&
-           s->labels && s->valid_idx;
+    return s->depth && s->world && s->points && s->bg && s->col_ray && s->edge && s->mask &&
+           s->cand && s->labels && s->valid_idx;
 }
 
-/* Pinhole back-projection, then camera to world. */
+/* Pinhole back-projection, then camera to world. A column's (u - cx) / fx and a row's
+ * (r - cy) / fy are the same for every frame's pixel: divided once a row or column (the same
+ * numbers as dividing per pixel, at a 320th of the divisions). */
 static int seg_sample(fit_segmenter *s, const fit_depth_view *v)
 {
     const float *m = v->camera_to_world;
     int valid = 0, st = s->d.stride;
-    for (int y = 0; y < s->h; ++y)
+    for (int x = 0; x < s->w; ++x)
+        s->col_ray[x] = ((float)(x * st) - v->cx) / v->fx;
+    for (int y = 0; y < s->h; ++y) {
+        const uint16_t *row = v->depth + (size_t)(y * st) * (size_t)v->width;
+        float ry = ((float)(y * st) - v->cy) / v->fy;
         for (int x = 0; x < s->w; ++x) {
-            int i = y * s->w + x, u = x * st, r = y * st;
-            float z =
-                (float)v->depth[(size_t)r * (size_t)v->width + (size_t)u] * v->metres_per_unit;
+            int i = y * s->w + x;
+            float z = (float)row[(size_t)(x * st)] * v->metres_per_unit;
             if (!(z > 0.0f) || !isfinite(z)) {
                 s->depth[i] = 0.0f;
                 continue;
             }
             s->depth[i] = z;
-            float c[3] = {((float)u - v->cx) / v->fx * z, ((float)r - v->cy) / v->fy * z, z};
+            float c[3] = {s->col_ray[x] * z, ry * z, z};
             float *w = s->world + (size_t)i * 3;
             for (int k = 0; k < 3; ++k)
                 w[k] = m[k * 4] * c[0] + m[k * 4 + 1] * c[1] + m[k * 4 + 2] * c[2] + m[k * 4 + 3];
             ++valid;
         }
+    }
     return valid;
 }
 
@@ -261,10 +270,10 @@ static int seg_pick(fit_segmenter *s, int ncomp, comp_info *ci, const float cam[
         const float *p = s->world + (size_t)i * 3;
         for (int k = 0; k < 3; ++k) {
             ci[l].sum[k] += p[k];
-            ci[l].lo[k] = fminf(ci[l].lo[k], p[k]);
-            ci[l].hi[k] = fmaxf(ci[l].hi[k], p[k]);
+            ci[l].lo[k] = body_minf(ci[l].lo[k], p[k]);
+            ci[l].hi[k] = body_maxf(ci[l].hi[k], p[k]);
         }
-        ci[l].top = fmaxf(ci[l].top, plane_dist(s->floor, p));
+        ci[l].top = body_maxf(ci[l].top, plane_dist(s->floor, p));
         ci[l].count++;
     }
     int best = -1;
@@ -317,7 +326,7 @@ static void seg_person(fit_segmenter *s, int best, int ncomp, const comp_info *c
         memcpy(s->points + (size_t)out->count * 3, p, 3 * sizeof(float));
         for (int k = 0; k < 3; ++k)
             sum[k] += p[k];
-        out->top_y = fmaxf(out->top_y, plane_dist(s->floor, p));
+        out->top_y = body_maxf(out->top_y, plane_dist(s->floor, p));
         int x = i % s->w, y = i / s->w;
         out->touches_border |= x <= 1 || y <= 1 || x >= s->w - 2 || y >= s->h - 2;
         out->touches_top |= y <= 1;

@@ -14,6 +14,13 @@
 
 #include "tryon_clock.h"
 
+static double track_cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
 /* A fit is lost when fewer than this share of the points are explained, or worse than this. */
 #define TRACK_MIN_INLIERS 0.6f
 #define TRACK_MAX_RMS_MM  30.0f
@@ -468,10 +475,11 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     memset(out, 0, sizeof *out);
     out->shape = t->shape;
     out->topology_id = t->topology_id;
-    double t0 = tryon_now_ms();
+    double t0 = tryon_now_ms(), c0 = track_cpu_ms();
     fit_segment sg;
     fit_frame_error e = fit_segmenter_frame(t->seg, v, &sg, out->message, sizeof out->message);
     out->ms_segment = tryon_now_ms() - t0;
+    out->cpu_ms_segment = track_cpu_ms() - c0;
     if (e)
         return track_lost(t, out, e, NULL);
     size_t cells = (size_t)sg.width * (size_t)sg.height;
@@ -490,7 +498,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                         err, sizeof err))
         return track_lost(t, out, FIT_FRAME_INTERNAL, err);
     out->ms_segment = tryon_now_ms() - t0;
-    double t1 = tryon_now_ms();
+    double c1 = track_cpu_ms(), t1 = tryon_now_ms();
+    out->cpu_ms_segment = c1 - c0;
     int fresh = !t->have_pose;
     track_height_update(t, &sg, v);
     if (fresh)
@@ -522,6 +531,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = tryon_now_ms() - t1;
+    out->cpu_ms_fit = track_cpu_ms() - c1;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
     out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
@@ -549,7 +559,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         track_shape_update(t, &t->pose, t->pts);
         t->shape_learnt++;
     }
-    double t2 = tryon_now_ms();
+    double t2 = tryon_now_ms(), c2 = track_cpu_ms();
     t->published = t->pose;
     if (fresh)
         fit_smoother_reset(&t->smooth);
@@ -557,6 +567,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         fit_smoother_step(&t->smooth, &t->pose, &t->published);
     fit_model_pose(t->full, &t->published, t->verts, out->joints);
     out->ms_skin = tryon_now_ms() - t2;
+    out->cpu_ms_skin = track_cpu_ms() - c2;
     int settled = t->d.fixed_shape || t->person_frames > t->d.shape_frames;
     out->state =
         settled && t->sound_frames >= TRACK_SOUND_FRAMES ? FIT_STATE_TRACKING : FIT_STATE_INIT;

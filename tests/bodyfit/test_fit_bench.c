@@ -60,6 +60,13 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_true(json_field(json, "surface_mm") > 0.0 && json_field(json, "surface_mm") < 10.0);
     assert_true(json_field(json, "joints_mm") > 0.0 && json_field(json, "joints_mm") < 30.0);
     assert_true(json_field(json, "ms_median") > 0.0);
+    /* CPU a frame: every thread's at least this thread's, which is at least its sub-stages' */
+    double cpu = json_field(json, "cpu_ms_median"), all = json_field(json, "process_cpu_ms_median");
+    double seg = json_field(json, "segment_cpu_ms_median"),
+           fit = json_field(json, "fit_cpu_ms_median");
+    assert_true(cpu > 0.0 && all >= cpu - 0.01);
+    assert_true(seg > 0.0 && fit > 0.0 && json_field(json, "skin_cpu_ms_median") > 0.0);
+    assert_true(json_field(json, "process_cpu_ms_p95") >= all);
     assert_true(json_field(json, "tracked_fraction") == 1.0);
     assert_true(json_field(json, "frames") == 4.0);
     assert_true(json_field(json, "cloth_vs_truth_mm") == -1.0); /* not asked for */

@@ -1,8 +1,8 @@
 /* tryon-bodyfit as its own process, fed DEPTH over udpm on loopback (a private port and channel
- * prefix): a BODY and a TIMING (segment, fit, skin) per frame; a frame it cannot use (absurd
- * intrinsics, no reading at all) comes back as a lost BODY with no vertices, the log names why,
- * and the next good frame is fitted again; a burst is collapsed to the newest frame; SIGTERM
- * ends it cleanly. */
+ * prefix): a BODY and a TIMING (segment, fit, skin, and the frame's CPU time) per frame; a frame it
+ * cannot use (absurd intrinsics, no reading at all) comes back as a lost BODY with no vertices, the
+ * log names why, and the next good frame is fitted again; a burst is collapsed to the newest frame;
+ * SIGTERM ends it cleanly. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -21,7 +21,7 @@
 #define FP_MAX_SEQ 256
 
 typedef struct seen {
-    int bodies, timings, timing_substages_ok;
+    int bodies, timings, timing_substages_ok, timing_cpu_ok;
     int state[FP_MAX_SEQ], nv[FP_MAX_SEQ], got[FP_MAX_SEQ];
     int last_seq;
 } seen;
@@ -48,11 +48,14 @@ static void on_timing(const char *ch, const void *m, void *user)
     if (strcmp(t->stage, "bodyfit") != 0)
         return;
     s->timings++;
-    int found = 0;
-    for (int i = 0; i < t->num_substages; i++)
+    int found = 0, cpu = 0;
+    for (int i = 0; i < t->num_substages; i++) {
         found += !strcmp(t->substage[i], "segment") || !strcmp(t->substage[i], "fit") ||
                  !strcmp(t->substage[i], "skin");
+        cpu += !strcmp(t->substage[i], "cpu") && t->substage_ms[i] > 0.0f;
+    }
     s->timing_substages_ok += found == 3;
+    s->timing_cpu_ok += cpu == 1;
 }
 
 static fit_scene_frame *frame;
@@ -170,6 +173,7 @@ static void test_fit_process_bodies_bad_frames_and_burst(void **state)
     assert_true(s.last_seq > good); /* the burst was served */
     assert_true(s.bodies < seq);    /* some of the burst was skipped */
     assert_true(s.timing_substages_ok >= s.bodies - 1);
+    assert_true(s.timing_cpu_ok >= s.bodies - 1);
     assert_non_null(log);
     assert_non_null(strstr(log, "FIT_FRAME_INTRINSICS"));
     assert_non_null(strstr(log, "FIT_FRAME_EMPTY"));
@@ -179,6 +183,19 @@ static void test_fit_process_bodies_bad_frames_and_burst(void **state)
         assert_true(!s.got[k] || s.state[k] != 1); /* never tracking while half out of view */
     assert_non_null(strstr(log, "fit doubted ("));
     assert_non_null(strstr(log, "OUT_OF_VIEW"));
+    /* The last line: where the CPU went. Every body it published was fitted, every frame sent
+     * that reached it was counted, and building the models cost something. */
+    double start_ms = 0.0, body_ms = 0.0, depth_ms = 0.0;
+    long published = 0, received = 0;
+    const char *cpu_line = strstr(log, "tryon-bodyfit: CPU ");
+    assert_non_null(cpu_line);
+    assert_int_equal(sscanf(cpu_line,
+                            "tryon-bodyfit: CPU %lf ms starting (building the models), %lf ms a "
+                            "body fitted and published (%ld), %lf ms a DEPTH received (%ld",
+                            &start_ms, &body_ms, &published, &depth_ms, &received),
+                     5);
+    assert_true(start_ms > 0.0 && body_ms > 0.0 && depth_ms >= 0.0);
+    assert_true(published >= s.bodies && received >= published && received <= seq);
     free(log);
     free(zero);
     free(v);

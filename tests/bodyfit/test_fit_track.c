@@ -1,6 +1,6 @@
 /* Finding the person and fitting it, on scenes rendered with tryon-synth's camera and scene:
  * floor, back wall, a box in front of the legs, nobody, two people; the fit from the rest pose
- * on noise-free frames; bad frames. */
+ * on noise-free frames; bad frames; each frame's CPU time, counted on one thread. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -230,6 +230,50 @@ static void test_bad_frames_are_lost_and_serving_goes_on(void **state)
     fit_tracker_destroy(t);
 }
 
+/* The threads of this process (/proc/self/status), -1 when unknown. */
+static int thread_count(void)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    int n = -1;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "Threads: %d", &n) == 1)
+            break;
+    if (f)
+        fclose(f);
+    return n;
+}
+
+/* Each sub-stage's CPU time is counted, none more than its wall time (one thread cannot use
+ * more), and OpenCV starts no worker thread of its own (cv_shim.cpp: on two shared cores they
+ * only yielded beside the fit). */
+static void test_fit_cpu_counted_on_one_thread(void **state)
+{
+    (void)state;
+    fit_tracker_desc d = {.out_vertices = 3000, .fit_vertices = 1000}; /* cheaper to build */
+    char err[256];
+    fit_tracker *t = fit_tracker_create(&d, err, sizeof err);
+    assert_non_null(t);
+    fit_pose pose;
+    for (int k = 0; k < 3; ++k) {
+        motion_pose(FIT_MOTION_WALK, 0.1 * k, &pose);
+        fit_scene_pose(body, &pose, verts);
+        const float *list[1] = {verts};
+        fit_scene_render(frame, 0, body, list, 1);
+        fit_result r;
+        assert_int_equal(fit_tracker_frame(t, &frame->view, &r), FIT_FRAME_OK);
+        printf("# frame %d: CPU ms segment %.3f fit %.3f skin %.3f (wall %.3f %.3f %.3f)\n", k,
+               r.cpu_ms_segment, r.cpu_ms_fit, r.cpu_ms_skin, r.ms_segment, r.ms_fit, r.ms_skin);
+        assert_true(r.cpu_ms_segment > 0.0 && r.cpu_ms_fit > 0.0 && r.cpu_ms_skin > 0.0);
+        assert_true(r.cpu_ms_segment <= r.ms_segment + 0.05);
+        assert_true(r.cpu_ms_fit <= r.ms_fit + 0.05);
+        assert_true(r.cpu_ms_skin <= r.ms_skin + 0.05);
+    }
+    printf("# threads after fitting: %d\n", thread_count());
+    assert_int_equal(thread_count(), 1);
+    fit_tracker_destroy(t);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -238,6 +282,7 @@ int main(void)
         cmocka_unit_test(test_segment_two_people_nearest_axis),
         cmocka_unit_test(test_fit_converges_from_rest_on_noise_free_frames),
         cmocka_unit_test(test_bad_frames_are_lost_and_serving_goes_on),
+        cmocka_unit_test(test_fit_cpu_counted_on_one_thread),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
