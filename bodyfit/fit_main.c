@@ -6,6 +6,7 @@
 #include "bus.h"
 #include "fit_options.h"
 #include "fit_track.h"
+#include "queue.h"
 
 #include <signal.h>
 #include <stdio.h>
@@ -14,16 +15,20 @@
 
 #define FITP_TRIANGLES_EVERY 30 /* frames between resends of the triangle list (1 s at 30 fps) */
 #define FITP_MESSAGES_MAX    20 /* bad-frame messages printed before only counting them */
+/* --queue's default: a frame that overruns (a person's first, fitted in 8 turns) makes the next
+ * wait rather than be skipped; a longer overrun still skips, so latency stays bounded. */
+#define FITP_QUEUE 2
 
 typedef struct fitp {
     lcm_t *lcm;
     char body_channel[BUS_CHANNEL_MAX];
     fit_tracker *tracker;
-    tryon_depth_frame_t pending; /* the newest frame not yet fitted (data owned here) */
-    uint8_t *data;
-    size_t data_cap;
-    int have_pending;
-    int64_t pending_received;
+    /* the frames waiting to be fitted, oldest first (data owned here) */
+    tryon_depth_frame_t waiting[BUS_QUEUE_MAX];
+    uint8_t *data[BUS_QUEUE_MAX];
+    size_t data_cap[BUS_QUEUE_MAX];
+    int64_t received_us[BUS_QUEUE_MAX];
+    bus_queue queue;
     int triangles_every, max_frames, queue_all;
     long published, skipped, bad, last_triangles_seq, last_topology;
     long doubted, doubt_spells; /* frames published doubtful (fit_result.doubt), and runs of them */
@@ -42,38 +47,42 @@ static void on_signal(int sig)
     stop = 1;
 }
 
-/* Keeps a copy of the newest frame; one not yet fitted is replaced and counted as skipped. */
+/* Keeps a copy of the frame to wait in the queue; at a full queue it replaces the oldest waiting,
+ * counted as skipped. */
 static void on_depth(const char *channel, const void *msg, void *user)
 {
     (void)channel;
     fitp *p = user;
     const tryon_depth_frame_t *f = msg;
-    if ((size_t)f->num_bytes > p->data_cap) {
-        uint8_t *d = realloc(p->data, (size_t)f->num_bytes);
+    int supersedes, k = bus_queue_slot(&p->queue, &supersedes);
+    if ((size_t)f->num_bytes > p->data_cap[k]) {
+        uint8_t *d = realloc(p->data[k], (size_t)f->num_bytes);
         if (!d) {
             fprintf(stderr, "tryon-bodyfit: frame %d: out of memory; skipped\n", f->seq);
             return;
         }
-        p->data = d;
-        p->data_cap = (size_t)f->num_bytes;
+        p->data[k] = d;
+        p->data_cap[k] = (size_t)f->num_bytes;
     }
-    p->skipped += p->have_pending;
+    p->skipped += supersedes;
     p->received++;
-    p->pending = *f;
-    memcpy(p->data, f->data, (size_t)f->num_bytes);
-    p->pending.data = p->data;
-    p->pending.source = NULL;
-    p->have_pending = 1;
-    p->pending_received = bus_now_wall_us();
+    p->waiting[k] = *f;
+    memcpy(p->data[k], f->data, (size_t)f->num_bytes);
+    p->waiting[k].data = p->data[k];
+    p->waiting[k].source = NULL;
+    p->received_us[k] = bus_now_wall_us();
+    bus_queue_commit(&p->queue);
 }
 
-static void fit_pending(fitp *p);
+static void fit_frame(fitp *p, int k);
 
 /* --queue all: every frame is fitted as it arrives (tests, offline replays). */
 static void on_depth_all(const char *channel, const void *msg, void *user)
 {
     on_depth(channel, msg, user);
-    fit_pending(user);
+    int k = bus_queue_take(&((fitp *)user)->queue);
+    if (k >= 0)
+        fit_frame(user, k);
 }
 
 static void publish(fitp *p, const tryon_depth_frame_t *f, const fit_result *r, bus_timing *timing)
@@ -115,13 +124,12 @@ static void publish(fitp *p, const tryon_depth_frame_t *f, const fit_result *r, 
     bus_timing_publish(p->lcm, timing);
 }
 
-static void fit_pending(fitp *p)
+static void fit_frame(fitp *p, int k)
 {
     int64_t cpu0 = bus_now_cpu_us();
-    tryon_depth_frame_t *f = &p->pending;
-    p->have_pending = 0;
+    tryon_depth_frame_t *f = &p->waiting[k];
     bus_timing timing;
-    bus_timing_begin(&timing, "bodyfit", f->seq, f->utime_capture, p->pending_received);
+    bus_timing_begin(&timing, "bodyfit", f->seq, f->utime_capture, p->received_us[k]);
     fit_depth_view v = {.width = f->width,
                         .height = f->height,
                         .fx = f->fx,
@@ -173,12 +181,14 @@ static void print_cpu(const fitp *p)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: tryon-bodyfit [--frames N] [--triangles-every N] [--queue latest|all]\n");
+    fprintf(f, "usage: tryon-bodyfit [--frames N] [--triangles-every N] [--queue N|latest|all]\n");
     fit_tracker_options_usage(f, 21);
     fprintf(f, "Fits the body model to every DEPTH frame and publishes BODY (world coordinates,\n"
                "state init/tracking/lost) and TIMING (segment, fit, skin; cpu: the frame's CPU\n"
-               "time, every thread). When it falls behind, the newest frame wins (--queue all:\n"
-               "every frame is fitted, in order). --frames: exit after N bodies.\n"
+               "time, every thread). When it falls behind, at most --queue N frames wait (1-4,\n"
+               "default 2; latest: 1), oldest first, and one arriving at a full queue replaces\n"
+               "the oldest waiting (--queue all: every frame is fitted, in order). --frames:\n"
+               "exit after N bodies.\n"
                "--triangles-every: the triangles with every Nth body (30). At the end, where the\n"
                "CPU went: starting, a body fitted and published, a DEPTH received.\n");
     fit_tracker_options_help(f);
@@ -204,8 +214,11 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
         else if (!strcmp(a, "--frames"))
             bad = fit_parse_int(v, 1, 1000000000, &p->max_frames) != 0;
         else if (!strcmp(a, "--queue")) {
-            bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0;
+            int n = 1;
+            bad = strcmp(v, "all") != 0 && strcmp(v, "latest") != 0 &&
+                  fit_parse_int(v, 1, BUS_QUEUE_MAX, &n) != 0;
             p->queue_all = !strcmp(v, "all");
+            bus_queue_init(&p->queue, n);
         } else
             bad = fit_parse_int(v, 1, 1000000, &p->triangles_every) != 0;
         if (bad) {
@@ -221,6 +234,7 @@ static int parse_args(int argc, char **argv, fitp *p, fit_tracker_desc *d)
 int main(int argc, char **argv)
 {
     fitp p = {.triangles_every = FITP_TRIANGLES_EVERY, .last_triangles_seq = -1};
+    bus_queue_init(&p.queue, FITP_QUEUE);
     fit_tracker_desc d = {0};
     if (parse_args(argc, argv, &p, &d))
         return 2;
@@ -246,15 +260,15 @@ int main(int argc, char **argv)
     fprintf(stderr, "tryon-bodyfit: listening on %s -> %s\n", depth_channel, p.body_channel);
     p.cpu_start = bus_now_cpu_us();
     while (!stop) {
-        if (lcm_handle_timeout(p.lcm, 100) <= 0)
-            continue;
-        while (lcm_handle_timeout(p.lcm, 0) > 0)
-            ; /* drain: the newest frame wins */
-        if (p.have_pending)
-            fit_pending(&p);
+        int r = lcm_handle_timeout(p.lcm, p.queue.count ? 0 : 100);
+        while (r > 0 && !p.queue_all)
+            r = lcm_handle_timeout(p.lcm, 0); /* drain: the newest frames wait */
+        int k = bus_queue_take(&p.queue);
+        if (k >= 0)
+            fit_frame(&p, k);
     }
     fprintf(stderr,
-            "tryon-bodyfit: published %ld bodies, %ld frames skipped (newest wins), %ld bad "
+            "tryon-bodyfit: published %ld bodies, %ld frames skipped (newer ones waiting), %ld bad "
             "frames, %ld doubtful fits (runs of them: %ld), %llu DEPTH messages rejected\n",
             p.published, p.skipped, p.bad, p.doubted, p.doubt_spells,
             (unsigned long long)bus_sub_stats(sub)->rejected);
@@ -265,6 +279,7 @@ done:
     if (p.lcm)
         lcm_destroy(p.lcm);
     fit_tracker_destroy(p.tracker);
-    free(p.data);
+    for (int k = 0; k < BUS_QUEUE_MAX; k++)
+        free(p.data[k]);
     return rc;
 }
