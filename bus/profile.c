@@ -18,6 +18,7 @@ typedef struct stage_samples {
 
 struct bus_profile {
     int num_stages;
+    int warmup;
     stage_samples stages[BUS_PROFILE_MAX_STAGES];
 };
 
@@ -201,7 +202,33 @@ static int count_dropped(const int32_t *seq, int n)
     return dropped > INT32_MAX ? INT32_MAX : (int)dropped;
 }
 
-static void stage_stats(const stage_samples *s, bus_stage_stats *o)
+/* The latencies of the frames after the first `warmup` by seq, and the frames missing among
+ * them (from the warm-up's end on). */
+static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
+{
+    int32_t first = s->n ? s->seq[0] : 0;
+    for (int i = 1; i < s->n; i++)
+        first = s->seq[i] < first ? s->seq[i] : first;
+    double *lat = malloc((size_t)(s->n + 1) * sizeof *lat);
+    int32_t *seq = malloc((size_t)(s->n + 1) * sizeof *seq);
+    int n = 0;
+    for (int i = 0; lat && seq && i < s->n; i++)
+        if ((int64_t)s->seq[i] - first >= warmup) {
+            lat[n] = s->lat_ms[i];
+            seq[n++] = s->seq[i];
+        }
+    o->steady_frames = n;
+    double max;
+    sorted_percentiles(lat, n, &o->steady_lat_p50_ms, &o->steady_lat_p95_ms, &o->steady_lat_p99_ms,
+                       &max);
+    if (seq && n && warmup > 0) /* the warm-up's last frame as a fence: a gap right after counts */
+        seq[n++] = (int32_t)((int64_t)first + warmup - 1);
+    o->steady_dropped = seq ? count_dropped(seq, n) : 0;
+    free(lat);
+    free(seq);
+}
+
+static void stage_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
 {
     memset(o, 0, sizeof *o);
     snprintf(o->stage, sizeof o->stage, "%s", s->name);
@@ -213,6 +240,7 @@ static void stage_stats(const stage_samples *s, bus_stage_stats *o)
                        &o->work_max_ms);
     sorted_percentiles(s->lat_ms, s->n, &o->lat_p50_ms, &o->lat_p95_ms, &o->lat_p99_ms,
                        &o->lat_max_ms);
+    steady_stats(s, warmup, o);
     o->num_substages = s->num_sub;
     for (int k = 0; k < s->num_sub; k++) {
         double p95, p99, max;
@@ -228,11 +256,16 @@ static int cmp_stats(const void *a, const void *b)
     return rx != ry ? rx - ry : strcmp(x->stage, y->stage);
 }
 
+void bus_profile_set_warmup(bus_profile *p, int frames)
+{
+    p->warmup = frames > 0 ? frames : 0;
+}
+
 int bus_profile_stats(const bus_profile *p, bus_stage_stats *out, int max)
 {
     int n = p->num_stages < max ? p->num_stages : max;
     for (int i = 0; i < n; i++)
-        stage_stats(&p->stages[i], &out[i]);
+        stage_stats(&p->stages[i], p->warmup, &out[i]);
     qsort(out, (size_t)n, sizeof *out, cmp_stats);
     return n;
 }
@@ -247,6 +280,15 @@ void bus_profile_print(const bus_profile *p, FILE *out)
         fprintf(out, "%-10s %7d %7d %7.1f %9.2f %9.2f %9.2f %11.2f %11.2f %11.2f\n", st[i].stage,
                 st[i].frames, st[i].dropped, st[i].fps, st[i].work_p50_ms, st[i].work_p95_ms,
                 st[i].work_p99_ms, st[i].lat_p50_ms, st[i].lat_p95_ms, st[i].lat_p99_ms);
+    if (p->warmup > 0) {
+        fprintf(out, "after the first %d frames (warm-up):\n", p->warmup);
+        fprintf(out, "%-10s %7s %7s %11s %11s %11s\n", "stage", "frames", "dropped", "latency p50",
+                "latency p95", "latency p99");
+        for (int i = 0; i < n; i++)
+            fprintf(out, "%-10s %7d %7d %11.2f %11.2f %11.2f\n", st[i].stage, st[i].steady_frames,
+                    st[i].steady_dropped, st[i].steady_lat_p50_ms, st[i].steady_lat_p95_ms,
+                    st[i].steady_lat_p99_ms);
+    }
     for (int i = 0; i < n; i++)
         for (int k = 0; k < st[i].num_substages; k++)
             fprintf(out, "  %s/%s p50 %.3f ms\n", st[i].stage, st[i].substage[k],
@@ -256,9 +298,10 @@ void bus_profile_print(const bus_profile *p, FILE *out)
     fprintf(out,
             "{\"stages\": %d, \"last_stage\": \"%s\", \"frames\": %d, \"dropped\": %d, "
             "\"fps\": %.2f, \"latency_p50_ms\": %.3f, \"latency_p95_ms\": %.3f, "
-            "\"latency_p99_ms\": %.3f, \"ms_median\": %.3f, \"ms_p95\": %.3f}\n",
+            "\"latency_p99_ms\": %.3f, \"ms_median\": %.3f, \"ms_p95\": %.3f, "
+            "\"warmup_frames\": %d, \"steady_dropped\": %d, \"steady_latency_p95_ms\": %.3f}\n",
             n, last ? last->stage : "", last ? last->frames : 0, last ? last->dropped : 0,
             last ? last->fps : 0, last ? last->lat_p50_ms : 0, last ? last->lat_p95_ms : 0,
-            last ? last->lat_p99_ms : 0, last ? last->work_p50_ms : 0,
-            last ? last->work_p95_ms : 0);
+            last ? last->lat_p99_ms : 0, last ? last->work_p50_ms : 0, last ? last->work_p95_ms : 0,
+            p->warmup, last ? last->steady_dropped : 0, last ? last->steady_lat_p95_ms : 0);
 }

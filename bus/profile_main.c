@@ -18,9 +18,10 @@ static void on_signal(int sig)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: tryon-profile --live SECONDS | --log FILE.lcmlog\n"
+    fprintf(f, "usage: tryon-profile --live SECONDS | --log FILE.lcmlog [--warmup N]\n"
                "  --live S   listen to TIMING for S seconds (or until Ctrl-C)\n"
                "  --log F    read every TIMING message of an lcm-logger log\n"
+               "  --warmup N also the figures without each stage's first N frames (default 0)\n"
                "Prints a table per stage (frames, drops, fps, work and latency p50/p95/p99),\n"
                "then one JSON line with the end-to-end figures.\n");
 }
@@ -97,6 +98,17 @@ int main(int argc, char **argv)
         usage(stdout);
         return 0;
     }
+    long warmup = 0;
+    if (argc == 5 && strcmp(argv[3], "--warmup") == 0) {
+        char *end;
+        warmup = strtol(argv[4], &end, 10);
+        if (end == argv[4] || *end || warmup < 0 || warmup > 100000) {
+            fprintf(stderr, "tryon-profile: --warmup needs a number of frames, got '%s'\n",
+                    argv[4]);
+            return 2;
+        }
+        argc = 3;
+    }
     if (argc != 3 || (strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)) {
         if (argc > 1 && strcmp(argv[1], "--live") != 0 && strcmp(argv[1], "--log") != 0)
             fprintf(stderr, "tryon-profile: unknown option %s\n", argv[1]);
@@ -108,6 +120,7 @@ int main(int argc, char **argv)
     bus_profile *p = bus_profile_create();
     if (!p)
         return 1;
+    bus_profile_set_warmup(p, (int)warmup);
     int rc;
     if (strcmp(argv[1], "--log") == 0) {
         rc = from_log(p, argv[2]);

@@ -63,6 +63,8 @@ int session_open(session *s)
         return -1;
     }
     s->profile = bus_profile_create();
+    if (s->profile)
+        bus_profile_set_warmup(s->profile, SESSION_WARMUP_FRAMES);
     bus_channel(BUS_CHANNEL_TIMING, ch, sizeof ch);
     s->timing_sub = bus_subscribe(s->lcm, ch, BUS_TIMING, on_timing, s);
     if (!s->profile || !s->timing_sub) {

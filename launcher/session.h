@@ -12,6 +12,10 @@
 #define SESSION_RESTART_WINDOW_US 30000000
 /* After the recording ends, frames still in the pipeline get this long to arrive. */
 #define SESSION_DRAIN_US 1500000
+/* The summary also gives the figures without each stage's first frames: a person entering, the
+ * fitter's shape estimated over 10 frames, the garment made on the first body and again on the
+ * first tracking one, and settled (docs/pipeline.md, "The latency summary"). */
+#define SESSION_WARMUP_FRAMES 15
 /* tryon-mirror's niceness by default: on two cores the four stages want 45-50 ms of CPU a 33 ms
  * frame; a picture drawn a little later costs the screen's latency less than a body fitted or a
  * cloth simulated later, which delays both the cloth and every picture after (docs/pipeline.md,

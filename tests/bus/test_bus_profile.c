@@ -69,6 +69,44 @@ static void test_profile_percentiles_drops_and_order(void **state)
     bus_profile_destroy(p);
 }
 
+/* A warm-up: the first frames by seq are left out of the steady_ figures only; a drop right
+ * after the warm-up counts, one inside it does not. */
+static void test_profile_warmup(void **state)
+{
+    (void)state;
+    bus_profile *p = bus_profile_create();
+    bus_profile_set_warmup(p, 10);
+    for (int seq = 5; seq < 105; seq++) { /* the stage's first frame is seq 5 */
+        if (seq == 7 || seq == 15 || seq == 50)
+            continue; /* 7 inside the warm-up (5..14), 15 its first frame after, 50 later */
+        double lat = seq < 15 ? 200.0 : 10.0 + (seq % 10);
+        tryon_timing_t sim = report("sim", seq, 1.0, lat);
+        assert_int_equal(bus_profile_add(p, &sim), 0);
+    }
+    bus_stage_stats st[1];
+    assert_int_equal(bus_profile_stats(p, st, 1), 1);
+    assert_int_equal(st[0].frames, 97);
+    assert_int_equal(st[0].dropped, 3);
+    assert_true(st[0].lat_p95_ms > 199.0); /* the whole session keeps the warm-up's frames */
+    assert_int_equal(st[0].steady_frames, 88);
+    assert_int_equal(st[0].steady_dropped, 2);
+    assert_true(st[0].steady_lat_p95_ms >= 18.0 && st[0].steady_lat_p95_ms <= 19.0);
+    assert_true(st[0].steady_lat_p50_ms >= 14.0 && st[0].steady_lat_p50_ms <= 15.0);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    bus_profile_print(p, out);
+    fclose(out);
+    assert_non_null(strstr(buf, "after the first 10 frames (warm-up)"));
+    assert_non_null(strstr(buf, "\"warmup_frames\": 10, \"steady_dropped\": 2"));
+    free(buf);
+    bus_profile_set_warmup(p, 0); /* none: the steady figures are the whole session's */
+    assert_int_equal(bus_profile_stats(p, st, 1), 1);
+    assert_int_equal(st[0].steady_frames, st[0].frames);
+    assert_int_equal(st[0].steady_dropped, st[0].dropped);
+    bus_profile_destroy(p);
+}
+
 /* One event as lcm-logger writes it: the payload and its tag. */
 static void write_event(lcm_eventlog_t *log, int64_t n, const char *channel, void *data, int len)
 {
@@ -126,6 +164,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_profile_percentiles_drops_and_order),
+        cmocka_unit_test(test_profile_warmup),
         cmocka_unit_test(test_profile_reads_an_lcm_log_and_skips_corrupt_events),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
