@@ -211,8 +211,13 @@ static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
         first = s->seq[i] < first ? s->seq[i] : first;
     double *lat = malloc((size_t)(s->n + 1) * sizeof *lat);
     int32_t *seq = malloc((size_t)(s->n + 1) * sizeof *seq);
+    if (!lat || !seq) { /* out of memory: no steady figures rather than wrong ones */
+        free(lat);
+        free(seq);
+        return;
+    }
     int n = 0;
-    for (int i = 0; lat && seq && i < s->n; i++)
+    for (int i = 0; i < s->n; i++)
         if ((int64_t)s->seq[i] - first >= warmup) {
             lat[n] = s->lat_ms[i];
             seq[n++] = s->seq[i];
@@ -221,9 +226,9 @@ static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
     double max;
     sorted_percentiles(lat, n, &o->steady_lat_p50_ms, &o->steady_lat_p95_ms, &o->steady_lat_p99_ms,
                        &max);
-    if (seq && n && warmup > 0) /* the warm-up's last frame as a fence: a gap right after counts */
+    if (n && warmup > 0) /* the warm-up's last frame as a fence: a gap right after counts */
         seq[n++] = (int32_t)((int64_t)first + warmup - 1);
-    o->steady_dropped = seq ? count_dropped(seq, n) : 0;
+    o->steady_dropped = count_dropped(seq, n);
     free(lat);
     free(seq);
 }

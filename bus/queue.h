@@ -15,13 +15,13 @@ typedef struct bus_queue {
 
 /* depth out of 1..BUS_QUEUE_MAX is taken as the nearest bound. */
 void bus_queue_init(bus_queue *q, int depth);
-/* The slot the next body is written into, and whether that replaces the oldest body waiting
- * (*supersedes = 1: the queue is full). Nothing changes until bus_queue_commit: a body found bad
+/* The slot the next frame is written into, and whether that replaces the oldest frame waiting
+ * (*supersedes = 1: the queue is full). Nothing changes until bus_queue_commit: a frame found bad
  * while it is written replaces nothing. */
 int bus_queue_slot(const bus_queue *q, int *supersedes);
-/* The body written into bus_queue_slot's slot now waits behind the others. */
+/* The frame written into bus_queue_slot's slot now waits behind the others. */
 void bus_queue_commit(bus_queue *q);
-/* The oldest body waiting, taken out of the queue (its slot stays as it is until a later commit
+/* The oldest frame waiting, taken out of the queue (its slot stays as it is until a later commit
  * writes it), or -1 when none waits. */
 int bus_queue_take(bus_queue *q);
 
