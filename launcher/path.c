@@ -2,7 +2,8 @@
  * `tryon run --record DIR`. Each frame's TIMING from capture, bodyfit, sim and mirror are joined
  * by their capture time; between two stages is the wait (the next stage still busy, or waiting
  * for a core) and the bus. Printed for every frame, and for the slowest twentieth (what the p95
- * is made of). */
+ * is made of). With --each, also one line a frame in capture order, a stage that did not see
+ * the frame shown as "-": where the first frames' time goes, and which stage dropped which. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,14 +130,35 @@ static void print_path(double (*seg)[PATH_SEGMENTS], int n, int last)
     free(total);
 }
 
+/* One line for the frame whose stages' reports are st (a missing one NULL): the capture's own
+ * ms, then per stage the wait before it and its work, and the latency to the last stage seen. */
+static void print_frame(int k, const path_rec *st[PATH_STAGES])
+{
+    printf("%5d %7.1f", k, (double)(st[PATH_CAPTURE]->finished - st[PATH_CAPTURE]->capture) / 1e3);
+    int last = PATH_CAPTURE;
+    for (int s = 1; s < PATH_STAGES; s++) {
+        if (!st[s] || !st[last]) {
+            printf(" %7s %7s", "-", "-");
+            continue;
+        }
+        printf(" %7.1f %7.1f", (double)(st[s]->started - st[last]->finished) / 1e3,
+               (double)(st[s]->finished - st[s]->started) / 1e3);
+        last = s;
+    }
+    printf(" %7.1f %s\n", (double)(st[last]->finished - st[PATH_CAPTURE]->capture) / 1e3,
+           stage_names[last]);
+}
+
 int tryon_path(int argc, char **argv)
 {
-    if (argc != 3 || argv[2][0] == '-') {
+    int each = argc == 4 && !strcmp(argv[3], "--each");
+    if ((argc != 3 && !each) || argv[2][0] == '-') {
         int help = argc == 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"));
         fprintf(help ? stdout : stderr,
-                "usage: tryon path LOG\n"
+                "usage: tryon path LOG [--each]\n"
                 "  where each frame's time goes, stage by stage (TIMING of a session recorded\n"
-                "  with tryon run --record DIR: DIR/session.lcmlog)\n");
+                "  with tryon run --record DIR: DIR/session.lcmlog); --each: also one line a\n"
+                "  frame, \"-\" where a stage did not see it\n");
         return help ? 0 : 2;
     }
     path_log p = {0};
@@ -148,13 +170,18 @@ int tryon_path(int argc, char **argv)
     qsort(p.rec, (size_t)p.n, sizeof *p.rec, by_capture);
     double(*to_sim)[PATH_SEGMENTS] = calloc((size_t)p.n, sizeof *to_sim);
     double(*to_mirror)[PATH_SEGMENTS] = calloc((size_t)p.n, sizeof *to_mirror);
-    int n_sim = 0, n_mirror = 0;
+    int n_sim = 0, n_mirror = 0, frame = 0;
+    if (each)
+        printf("== each frame, ms: frame, capture, then wait and work before and in bodyfit, sim, "
+               "mirror; latency to the last stage\n");
     for (int i = 0; to_sim && to_mirror && i < p.n;) {
         const path_rec *st[PATH_STAGES] = {0};
         int j = i;
         for (; j < p.n && p.rec[j].capture == p.rec[i].capture; j++)
             st[p.rec[j].stage] = &p.rec[j]; /* a stage restarted mid-frame: its last report */
         i = j;
+        if (each && st[PATH_CAPTURE])
+            print_frame(frame++, st);
         if (!st[PATH_CAPTURE] || !st[PATH_BODY] || !st[PATH_SIM])
             continue;
         segments(st, PATH_SIM, to_sim[n_sim++]);

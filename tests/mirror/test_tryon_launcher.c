@@ -304,7 +304,7 @@ static void pace_bodies(const char *log, int expected)
  * of its segments); then the path to the mirror. */
 static void path_adds_up(const char *log, const char *txt)
 {
-    char *argv[] = {TRYON_EXE, "path", (char *)log, NULL};
+    char *argv[] = {TRYON_EXE, "path", (char *)log, "--each", NULL};
     assert_int_equal(ts_wait(ts_spawn_out(argv, NULL, txt), 60000), 0);
     char *said = ts_read_file(txt);
     assert_non_null(said);
@@ -328,6 +328,22 @@ static void path_adds_up(const char *log, const char *txt)
     }
     ok = ok && total > 0.0 && sum > total - 0.5 && sum < total + 0.5 &&
          strstr(said, "== capture -> mirror, ");
+    /* --each: a line a captured frame, numbered from 0, whose segments add up to its latency */
+    const char *each = strstr(said, "== each frame");
+    int lines = 0;
+    for (const char *line = each ? strchr(each, '\n') : NULL; ok && line && line[1] == ' ';
+         line = strchr(line + 1, '\n')) {
+        char tok[12][16];
+        int n = sscanf(line + 1, "%15s %15s %15s %15s %15s %15s %15s %15s %15s %15s", tok[0],
+                       tok[1], tok[2], tok[3], tok[4], tok[5], tok[6], tok[7], tok[8], tok[9]);
+        double add = 0.0;
+        for (int k = 1; n == 10 && k < 8; k++)
+            add += strcmp(tok[k], "-") ? atof(tok[k]) : 0.0;
+        ok = n == 10 && atoi(tok[0]) == lines && add - atof(tok[8]) < 0.5 &&
+             atof(tok[8]) - add < 0.5;
+        lines++;
+    }
+    ok = ok && lines >= frames && lines <= 8;
     free(said);
     if (!ok)
         fail_msg("tryon path: no path to the sim whose segments add up (%.1f against %.1f ms)", sum,
