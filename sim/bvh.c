@@ -21,9 +21,13 @@
    lengthens the common prefix by at least one bit. The SAH build: SAH splits down to SAH_DEPTH,
    then halves, so at most SAH_DEPTH + 31 levels. */
 #define BVH_STACK 96
-/* The SAH build: candidate planes a node and axis, and the depth after which it halves. */
+/* The SAH build: candidate planes a node and axis, the depth after which it halves, and the
+   size of node it halves (binning a node costs its 48 bins whatever its size, and below a few
+   triangles the SAH and the median split give trees that answer queries alike; the nodes of two
+   to four triangles are most of the tree's nodes and were most of its build). */
 #define SAH_BINS  16
 #define SAH_DEPTH 48
+#define SAH_MIN   4
 /* The refit's subtrees: enough that two or three threads share them evenly (schedule dynamic). */
 #define REFIT_TASKS 32
 
@@ -391,51 +395,62 @@ static int sah_bin(float c, float lo, float ext)
     return q < 0 ? 0 : (q >= SAH_BINS ? SAH_BINS - 1 : q);
 }
 
-/* The cheapest plane between two bins along axis k: the expected cost of a query reaching the node,
-   area(left) * triangles(left) + area(right) * triangles(right). Returns the last bin of the left
-   side (its cost in *cost), or -1 when every centroid falls in one bin. tlo, thi, cen: per
+/* The cheapest plane between two bins along each axis k with ext[k] > 0: the expected cost of a
+   query reaching the node, area(left) * triangles(left) + area(right) * triangles(right). One
+   pass over the node's triangles bins all three axes. q[k]: the last bin of the left side (its
+   cost in cost[k]), or -1 when every centroid falls in one bin or ext[k] is 0. tlo, thi, cen: per
    triangle. */
-static int sah_plane(const sim_bvh *b, const sah_task *t, int k, float cmin, float ext,
-                     const float (*tlo)[4], const float (*thi)[4], const float (*cen)[4],
-                     float *cost)
+static void sah_planes(const sim_bvh *b, const sah_task *t, const float cmin[3], const float ext[3],
+                       const float (*tlo)[4], const float (*thi)[4], const float (*cen)[4],
+                       int q[3], float cost[3])
 {
-    int cnt[SAH_BINS] = {0}, right_cnt[SAH_BINS];
-    float blo[SAH_BINS][3], bhi[SAH_BINS][3], right_area[SAH_BINS];
-    for (int q = 0; q < SAH_BINS; q++)
-        for (int a = 0; a < 3; a++)
-            blo[q][a] = FLT_MAX, bhi[q][a] = -FLT_MAX;
+    int cnt[3][SAH_BINS] = {{0}}, right_cnt[SAH_BINS];
+    float blo[3][SAH_BINS][3], bhi[3][SAH_BINS][3], right_area[SAH_BINS];
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < SAH_BINS; j++)
+            for (int a = 0; a < 3; a++)
+                blo[k][j][a] = FLT_MAX, bhi[k][j][a] = -FLT_MAX;
+    float e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = ext[k] > 0.0f ? ext[k] : 1.0f; /* an axis of no extent: binned, never split */
     for (int i = t->begin; i < t->end; i++) {
-        int tri = b->order[i], q = sah_bin(cen[tri][k], cmin, ext);
-        cnt[q]++;
-        for (int a = 0; a < 3; a++) {
-            blo[q][a] = min2(blo[q][a], tlo[tri][a]);
-            bhi[q][a] = max2(bhi[q][a], thi[tri][a]);
+        int tri = b->order[i];
+        for (int k = 0; k < 3; k++) {
+            int j = sah_bin(cen[tri][k], cmin[k], e[k]);
+            cnt[k][j]++;
+            for (int a = 0; a < 3; a++) {
+                blo[k][j][a] = min2(blo[k][j][a], tlo[tri][a]);
+                bhi[k][j][a] = max2(bhi[k][j][a], thi[tri][a]);
+            }
         }
     }
-    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
-    for (int q = SAH_BINS - 1, n = 0; q > 0; q--) {
-        n += cnt[q];
-        for (int a = 0; a < 3; a++)
-            lo[a] = min2(lo[a], blo[q][a]), hi[a] = max2(hi[a], bhi[q][a]);
-        right_cnt[q] = n;
-        right_area[q] = n > 0 ? half_area(lo, hi) : 0.0f;
-    }
-    for (int a = 0; a < 3; a++)
-        lo[a] = FLT_MAX, hi[a] = -FLT_MAX;
-    int best = -1;
-    for (int q = 0, n = 0; q < SAH_BINS - 1; q++) {
-        n += cnt[q];
-        for (int a = 0; a < 3; a++)
-            lo[a] = min2(lo[a], blo[q][a]), hi[a] = max2(hi[a], bhi[q][a]);
-        if (n == 0 || right_cnt[q + 1] == 0)
+    for (int k = 0; k < 3; k++) {
+        q[k] = -1;
+        if (!(ext[k] > 0.0f))
             continue;
-        float c = half_area(lo, hi) * (float)n + right_area[q + 1] * (float)right_cnt[q + 1];
-        if (best < 0 || c < *cost) {
-            best = q;
-            *cost = c;
+        float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+        for (int j = SAH_BINS - 1, n = 0; j > 0; j--) {
+            n += cnt[k][j];
+            for (int a = 0; a < 3; a++)
+                lo[a] = min2(lo[a], blo[k][j][a]), hi[a] = max2(hi[a], bhi[k][j][a]);
+            right_cnt[j] = n;
+            right_area[j] = n > 0 ? half_area(lo, hi) : 0.0f;
+        }
+        for (int a = 0; a < 3; a++)
+            lo[a] = FLT_MAX, hi[a] = -FLT_MAX;
+        for (int j = 0, n = 0; j < SAH_BINS - 1; j++) {
+            n += cnt[k][j];
+            for (int a = 0; a < 3; a++)
+                lo[a] = min2(lo[a], blo[k][j][a]), hi[a] = max2(hi[a], bhi[k][j][a]);
+            if (n == 0 || right_cnt[j + 1] == 0)
+                continue;
+            float c = half_area(lo, hi) * (float)n + right_area[j + 1] * (float)right_cnt[j + 1];
+            if (q[k] < 0 || c < cost[k]) {
+                q[k] = j;
+                cost[k] = c;
+            }
         }
     }
-    return best;
 }
 
 /* order[begin, end) rearranged so that the k-th smallest centroid along axis a is at k, those
@@ -466,10 +481,11 @@ static void select_kth(int32_t *order, int begin, int end, int k, const float (*
 }
 
 /* Topology by binned SAH, depth first from the root: each node split at the cheapest plane of
-   any axis (sah_plane), or halved at the median centroid of its longest axis when no plane
-   separates its centroids or it is SAH_DEPTH deep. A side of one triangle is a leaf. The triangles'
-   boxes and centroids are kept, by triangle, in the leaf entries of lo, hi and slo, which the
-   refit then overwrites. Depth first, the stack holds at most one node a level. */
+   any axis (sah_planes), or halved at the median centroid of its longest axis when no plane
+   separates its centroids, it is SAH_DEPTH deep or holds SAH_MIN triangles or fewer. A side of one
+   triangle is a leaf. The triangles' boxes and centroids are kept, by triangle, in the leaf entries
+   of lo, hi and slo, which the refit then overwrites. Depth first, the stack holds at most one node
+   a level. */
 static void topology_sah(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[4], int nt)
 {
     float(*tlo)[4] = b->lo + (nt - 1), (*thi)[4] = b->hi + (nt - 1), (*cen)[4] = b->slo + (nt - 1);
@@ -494,19 +510,19 @@ static void topology_sah(sim_bvh *b, const float (*v)[4], const int32_t (*tris)[
                 cmin[k] = min2(cmin[k], cen[b->order[i]][k]);
                 cmax[k] = max2(cmax[k], cen[b->order[i]][k]);
             }
-        int axis = -1, bin = -1, wide = 0;
-        float best = 0.0f;
+        int axis = -1, bin = -1, wide = 0, q[3] = {-1, -1, -1};
+        float best = 0.0f, ext[3], cost[3];
         for (int k = 0; k < 3; k++) {
-            if (cmax[k] - cmin[k] > cmax[wide] - cmin[wide])
+            ext[k] = cmax[k] - cmin[k];
+            if (ext[k] > ext[wide])
                 wide = k;
-            float cost;
-            int q = t.depth < SAH_DEPTH && cmax[k] - cmin[k] > 0.0f
-                        ? sah_plane(b, &t, k, cmin[k], cmax[k] - cmin[k], (const float(*)[4])tlo,
-                                    (const float(*)[4])thi, (const float(*)[4])cen, &cost)
-                        : -1;
-            if (q >= 0 && (axis < 0 || cost < best))
-                axis = k, bin = q, best = cost;
         }
+        if (t.depth < SAH_DEPTH && t.end - t.begin > SAH_MIN)
+            sah_planes(b, &t, cmin, ext, (const float(*)[4])tlo, (const float(*)[4])thi,
+                       (const float(*)[4])cen, q, cost);
+        for (int k = 0; k < 3; k++)
+            if (q[k] >= 0 && (axis < 0 || cost[k] < best))
+                axis = k, bin = q[k], best = cost[k];
         int mid = t.begin + (t.end - t.begin) / 2;
         if (axis >= 0) {
             float lo = cmin[axis], ext = cmax[axis] - cmin[axis];

@@ -52,7 +52,7 @@ sim_collider *sim_collider_create(const sim_collider_desc *d, char *err, size_t 
     c->nbr = malloc(nt * sizeof *c->nbr);
     c->vt_start = malloc((nv + 1) * sizeof *c->vt_start);
     c->vt_list = malloc(3 * nt * sizeof *c->vt_list);
-    c->edge_scratch = malloc(3 * nt * sizeof(edge_key));
+    c->edge_scratch = malloc(6 * nt * sizeof(edge_key)); /* the edges, and sorted */
     c->vn = malloc(nv * sizeof *c->vn);
     c->vn_stamp = malloc(nv * sizeof *c->vn_stamp);
     c->share = aligned_alloc(_Alignof(sim_contact_slot), SIM_SHARE_SLOTS * sizeof *c->share);
@@ -258,19 +258,46 @@ static int cmp_edge(const void *pa, const void *pb)
     return a->tri != b->tri ? (a->tri < b->tri ? -1 : 1) : a->edge - b->edge;
 }
 
+/* A vertex's edges sorted by insertion up to this many; a larger bucket (a fan: a hostile body's
+   one vertex in every triangle) by qsort, so that no body makes the sort quadratic. */
+#define EDGE_INSERTION_MAX 32
+
 /* Per topology: triangles across each edge and the triangles around each vertex. */
 static void build_adjacency(sim_collider *c)
 {
     int nv = c->nv, nt = c->nt;
-    edge_key *e = c->edge_scratch;
+    edge_key *e = c->edge_scratch, *sorted = e + 3 * nt;
+    int32_t *start = c->vt_start; /* the edges' buckets by their lower vertex, for now */
+    memset(start, 0, (size_t)(nv + 1) * sizeof *start);
     for (int t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t a = c->tris[t][k], b = c->tris[t][(k + 1) % 3];
             int32_t lo = a < b ? a : b, hi = a < b ? b : a;
             e[3 * t + k] = (edge_key){(int64_t)lo * nv + hi, t, k};
+            start[lo + 1]++;
             c->nbr[t][k] = -1;
         }
-    qsort(e, (size_t)3 * nt, sizeof *e, cmp_edge);
+    /* Sorted by key, equal keys in (triangle, edge) order: a counting sort by the lower vertex
+       (stable), then each bucket, a vertex's few edges, by insertion (stable). Linear in the
+       edges, where one comparison sort of them all took a third of the topology's build. */
+    for (int i = 0; i < nv; i++)
+        start[i + 1] += start[i];
+    for (int i = 0; i < 3 * nt; i++)
+        sorted[start[e[i].key / nv]++] = e[i];
+    for (int v = 0, begin = 0; v < nv; begin = start[v++]) {
+        if (start[v] - begin > EDGE_INSERTION_MAX) {
+            qsort(sorted + begin, (size_t)(start[v] - begin), sizeof *sorted, cmp_edge);
+            continue;
+        }
+        for (int i = begin + 1; i < start[v]; i++) {
+            edge_key x = sorted[i];
+            int j = i;
+            for (; j > begin && sorted[j - 1].key > x.key; j--)
+                sorted[j] = sorted[j - 1];
+            sorted[j] = x;
+        }
+    }
+    e = sorted;
     for (int i = 0; i + 1 < 3 * nt; i++)
         if (e[i].key == e[i + 1].key) {
             c->nbr[e[i].tri][e[i].edge] = e[i + 1].tri;
