@@ -104,6 +104,20 @@ void sim_collider_destroy(sim_collider *c)
     free(c);
 }
 
+void sim_collider_restart(sim_collider *c)
+{
+    if (!c)
+        return;
+    for (int i = 0; i < c->max_cloth; i++) {
+        c->contact[i] = -1;
+        c->clear[i][3] = 0.0f;
+        c->quiet[i][3] = 0.0f;
+        c->quiet_key[i][0] = -1;
+        c->quiet_key[i][1] = 0;
+    }
+    c->restarted = 1;
+}
+
 int sim_collider_reserve(sim_collider *c, int max_cloth)
 {
     if (!c || max_cloth < 0)
@@ -362,11 +376,17 @@ int sim_collider_set_body(sim_collider *c, const float *xyz, int nv, const int32
         c->v[i][3] = 0.0f;
     }
     if (same) {
+        if (c->restarted) { /* no sweep into the frame a new garment was made on */
+            memcpy(c->v_prev, c->v, (size_t)nv * sizeof *c->v);
+            memcpy(c->n_prev, c->n, (size_t)nt * sizeof *c->n);
+        }
         sim_bvh_refit(&c->bvh, (const float(*)[4])c->v_prev, (const float(*)[4])c->v,
                       (const int32_t(*)[4])c->tris, c->d.thickness_m);
-        c->have_prev = 1;
+        c->have_prev = !c->restarted;
+        c->restarted = 0;
         return 0;
     }
+    c->restarted = 0;
     c->nv = nv;
     c->nt = nt;
     for (int t = 0; t < nt; t++) {

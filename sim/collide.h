@@ -110,6 +110,11 @@ float sim_collider_resting(const sim_collider *c, int i, const float p[3], float
 int sim_collider_penetration(const sim_collider *c, const float (*x)[4], int n, float tol_m,
                              int *count, float *max_depth_m);
 
+/* The body kept, its cloth forgotten (a garment made again on the same body): every cached
+   contact and bound cleared, and the next body frame has no sweep from this one (the new garment
+   was made on that frame). */
+void sim_collider_restart(sim_collider *c);
+
 /* Grow the contact cache to max_cloth points (not in the frame loop). 0 or an error. */
 int sim_collider_reserve(sim_collider *c, int max_cloth);
 
@@ -126,6 +131,7 @@ struct sim_collider {
     sim_collider_desc d; /* defaults filled in */
     int nv, nt;          /* body now; 0 before the first body */
     int have_prev;       /* frame k-1 has the topology of frame k (a sweep exists) */
+    int restarted;       /* sim_collider_restart: the next frame of this topology sweeps nothing */
     float (*v)[4], (*v_prev)[4];
     int32_t (*tris)[4];
     float (*n)[4], (*n_prev)[4]; /* unit face normals, frames k and k-1 */

@@ -420,6 +420,7 @@ static void step_body(app *a, pending_body *b)
     }
     if (b->state == TRYON_BODY_T_STATE_INIT)
         a->made_on_init = 1;
+    sim *before = NULL; /* the garment made again on the same body: its collision state kept */
     if (a->sim && a->made_on_init && b->state == TRYON_BODY_T_STATE_TRACKING) {
         a->made_on_init = 0;
         if (shape_moved(a, b)) {
@@ -427,15 +428,21 @@ static void step_body(app *a, pending_body *b)
                     "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
                     "garment is made again on it\n",
                     b->seq);
-            drop_sim(a);
+            before = a->sim;
+            a->sim = NULL;
         }
     }
-    if (!a->sim && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
+    int made = !a->sim;
+    if (made && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
+        sim_destroy(before);
         a->refused++;
         if (a->fatal)
             stop_requested = 1;
         return;
     }
+    if (made && before)
+        sim_take_body(a->sim, before);
+    sim_destroy(before);
     float budget = a->desc.frame_budget_ms;
     if (a->budget_auto)
         budget = sim_pace_budget_ms(&a->pace, b->utime_capture, bus_now_wall_us(), a->deadline_ms,

@@ -365,6 +365,25 @@ void sim_destroy(sim *s)
     free(s);
 }
 
+int sim_take_body(sim *s, sim *from)
+{
+    if (!s || !from || s->desc.backend != SIM_BACKEND_C || from->desc.backend != SIM_BACKEND_C ||
+        s->body.stored || from->collider->nt == 0)
+        return -1;
+    const sim_collider_desc *a = &s->collider->d, *b = &from->collider->d;
+    if (a->max_vertices != b->max_vertices || a->max_triangles != b->max_triangles ||
+        a->thickness_m != b->thickness_m || a->friction != b->friction ||
+        a->reach_m != b->reach_m || a->carry_coulomb != b->carry_coulomb ||
+        a->inelastic != b->inelastic ||
+        sim_collider_reserve(from->collider, s->collider->max_cloth) != 0)
+        return -1;
+    sim_collider *c = s->collider;
+    s->collider = from->collider;
+    from->collider = c;
+    sim_collider_restart(s->collider);
+    return 0;
+}
+
 static double now_ms(void)
 {
     struct timespec t;

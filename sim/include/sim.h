@@ -193,6 +193,11 @@ typedef struct sim sim;
 /* Copies the garment. Returns NULL with why filled when it is rejected. */
 sim *sim_create(const sim_desc *desc, const sim_garment *garment, sim_reject *why);
 void sim_destroy(sim *s);
+/* A garment made again on the body another sim (being replaced) has: s takes from's body
+ * collision state (the body's tree and adjacency, built once per body topology) instead of
+ * building its own on its first frame; from keeps s's empty one. Both on the C backend with the
+ * same body limits and contact settings, else nothing is taken. 0, or -1 (nothing changed). */
+int sim_take_body(sim *s, sim *from);
 
 /* One body frame (same topology every frame; a change restarts the sweep). Returns 0 or a
  * negative sim_error; the published positions are never NaN: on failure they stay those of the
