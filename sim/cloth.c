@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "edge_sort.h"
 #include "passes.h"
 
 typedef struct spring_list {
@@ -130,9 +131,13 @@ static int springs_binding(spring_list *l, const half_edge *he, int n, int nv,
 static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv,
                         const uint8_t *attached)
 {
-    half_edge *he = malloc((size_t)nt * 3 * sizeof *he);
-    if (!he)
+    half_edge *he = malloc((size_t)nt * 6 * sizeof *he), *sorted = he + nt * 3;
+    int32_t *count = malloc((size_t)(nv + 1) * sizeof *count);
+    if (!he || !count) {
+        free(he);
+        free(count);
         return -SIM_ERR_NO_MEMORY;
+    }
     for (int t = 0; t < nt; t++) {
         for (int e = 0; e < 3; e++) {
             int64_t a = tris[t * 3 + e], b = tris[t * 3 + (e + 1) % 3];
@@ -140,7 +145,9 @@ static int springs_mesh(spring_list *l, const int32_t *tris, int nt, int nv,
             he[t * 3 + e].opposite = tris[t * 3 + (e + 2) % 3];
         }
     }
-    qsort(he, (size_t)nt * 3, sizeof *he, half_edge_cmp);
+    sim_edge_sort(he, nt * 3, sizeof *he, nv, half_edge_cmp, sorted, count);
+    free(count);
+    memcpy(he, sorted, (size_t)nt * 3 * sizeof *he);
     int r = 0;
     for (int i = 0; i < nt * 3 && r == 0; i++) {
         if (i > 0 && he[i].key == he[i - 1].key)

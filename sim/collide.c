@@ -8,6 +8,7 @@
 #include "collide.h"
 #include "collide_bvh.h"
 #include "collide_geometry.h"
+#include "edge_sort.h"
 
 #define DEFAULT_THICKNESS_M 0.004f /* sim.h default: cloth kept 4 mm off the skin */
 #define DEFAULT_REACH_M                                                                            \
@@ -272,45 +273,19 @@ static int cmp_edge(const void *pa, const void *pb)
     return a->tri != b->tri ? (a->tri < b->tri ? -1 : 1) : a->edge - b->edge;
 }
 
-/* A vertex's edges sorted by insertion up to this many; a larger bucket (a fan: a hostile body's
-   one vertex in every triangle) by qsort, so that no body makes the sort quadratic. */
-#define EDGE_INSERTION_MAX 32
-
 /* Per topology: triangles across each edge and the triangles around each vertex. */
 static void build_adjacency(sim_collider *c)
 {
     int nv = c->nv, nt = c->nt;
     edge_key *e = c->edge_scratch, *sorted = e + 3 * nt;
-    int32_t *start = c->vt_start; /* the edges' buckets by their lower vertex, for now */
-    memset(start, 0, (size_t)(nv + 1) * sizeof *start);
     for (int t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t a = c->tris[t][k], b = c->tris[t][(k + 1) % 3];
             int32_t lo = a < b ? a : b, hi = a < b ? b : a;
             e[3 * t + k] = (edge_key){(int64_t)lo * nv + hi, t, k};
-            start[lo + 1]++;
             c->nbr[t][k] = -1;
         }
-    /* Sorted by key, equal keys in (triangle, edge) order: a counting sort by the lower vertex
-       (stable), then each bucket, a vertex's few edges, by insertion (stable). Linear in the
-       edges, where one comparison sort of them all took a third of the topology's build. */
-    for (int i = 0; i < nv; i++)
-        start[i + 1] += start[i];
-    for (int i = 0; i < 3 * nt; i++)
-        sorted[start[e[i].key / nv]++] = e[i];
-    for (int v = 0, begin = 0; v < nv; begin = start[v++]) {
-        if (start[v] - begin > EDGE_INSERTION_MAX) {
-            qsort(sorted + begin, (size_t)(start[v] - begin), sizeof *sorted, cmp_edge);
-            continue;
-        }
-        for (int i = begin + 1; i < start[v]; i++) {
-            edge_key x = sorted[i];
-            int j = i;
-            for (; j > begin && sorted[j - 1].key > x.key; j--)
-                sorted[j] = sorted[j - 1];
-            sorted[j] = x;
-        }
-    }
+    sim_edge_sort(e, 3 * nt, sizeof *e, nv, cmp_edge, sorted, c->vt_start);
     e = sorted;
     for (int i = 0; i + 1 < 3 * nt; i++)
         if (e[i].key == e[i + 1].key) {

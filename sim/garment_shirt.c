@@ -218,24 +218,25 @@ static int tri_spheres_make(tri_spheres *s, const float *xyz, const int32_t *tri
 static int nearest_triangle(const float *p, const float *xyz, const int32_t *tris, int nt,
                             const uint8_t *mask, const tri_spheres *s)
 {
-    float best = INFINITY;
+    float best = INFINITY, best_d = INFINITY; /* squared, and its root */
     int bt = -1;
     for (int t = 0; t < nt; t++) {
         const int32_t *v = &tris[t * 3];
         if (mask && (!mask[v[0]] || !mask[v[1]] || !mask[v[2]]))
             continue;
         const float *sc = s->c[t];
-        float dc = sqrtf((p[0] - sc[0]) * (p[0] - sc[0]) + (p[1] - sc[1]) * (p[1] - sc[1]) +
-                         (p[2] - sc[2]) * (p[2] - sc[2])) -
-                   sc[3];
-        if (dc > 0.0f && dc * dc > best)
-            continue; /* the whole triangle is farther than the best */
+        float dc2 = (p[0] - sc[0]) * (p[0] - sc[0]) + (p[1] - sc[1]) * (p[1] - sc[1]) +
+                    (p[2] - sc[2]) * (p[2] - sc[2]);
+        float reach = best_d + sc[3];
+        if (dc2 > reach * reach)
+            continue; /* the whole triangle is farther than the best (no root taken a triangle) */
         float q[3], bary[3];
         sim_closest_on_triangle(p, &xyz[v[0] * 3], &xyz[v[1] * 3], &xyz[v[2] * 3], q, bary);
         float d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
                    (p[2] - q[2]) * (p[2] - q[2]);
         if (d2 < best) {
             best = d2;
+            best_d = sqrtf(d2);
             bt = t;
         }
     }
