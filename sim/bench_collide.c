@@ -22,6 +22,7 @@
 #define ITERATIONS    25
 #define CONTACT_EVERY 10     /* tryon: iterations between contact refreshes (sim/cloth.h) */
 #define SHELL_M       0.008f /* cloth points start 8 mm off the skin */
+#define TOPOLOGY_RUNS 9      /* builds of a body topology timed (median) */
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -152,6 +153,39 @@ static int run_variant(int seed, fit_model *m, fit_motion motion, int frames, in
     return 0;
 }
 
+/* A body topology's build (its first frame in the collider: validation, adjacency, the SAH tree;
+ * the first frame of tryon-sim's garment, docs/collision.md), median ms of TOPOLOGY_RUNS: each
+ * run the body's triangles with their corners turned, a new topology for the collider. */
+static double topology_ms(const fit_model *m)
+{
+    int nv = fit_model_vertex_count(m), nt = fit_model_triangle_count(m);
+    const int32_t *tris = fit_model_triangles(m);
+    float *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
+    int32_t *turned = malloc((size_t)nt * 3 * sizeof *turned);
+    char err[160];
+    sim_collider *c = sim_collider_create(
+        &(sim_collider_desc){.max_vertices = nv, .max_triangles = nt}, err, sizeof err);
+    double ms[TOPOLOGY_RUNS], median = -1.0;
+    if (c && xyz && turned) {
+        fit_pose pose;
+        fit_motion_eval(FIT_MOTION_STILL, 0.0, &pose);
+        fit_model_pose(m, &pose, xyz, NULL);
+        for (int t = 0; t < nt; t++)
+            for (int k = 0; k < 3; k++)
+                turned[3 * t + k] = tris[3 * t + (k + 1) % 3];
+        for (int r = 0; r < TOPOLOGY_RUNS; r++) {
+            double t0 = tryon_now_ms();
+            sim_collider_set_body(c, xyz, nv, r % 2 ? turned : tris, nt);
+            ms[r] = tryon_now_ms() - t0;
+        }
+        median = percentile(ms, TOPOLOGY_RUNS, 0.5);
+    }
+    sim_collider_destroy(c);
+    free(xyz);
+    free(turned);
+    return median;
+}
+
 int main(int argc, char **argv)
 {
     int frames = 60, npts = 7000;
@@ -204,6 +238,9 @@ int main(int argc, char **argv)
                r[v].worst_pen, (double)r[v].worst_depth_mm);
         r[v].ms[0] = med, r[v].ms[1] = p95;
     }
+    double topo_ms = topology_ms(m);
+    printf("a body topology's build (its first frame): %.2f ms (median of %d)\n", topo_ms,
+           TOPOLOGY_RUNS);
     int threads = 1;
 #ifdef _OPENMP
     threads = omp_get_max_threads();
@@ -211,9 +248,9 @@ int main(int argc, char **argv)
     printf("{\"bench\":\"collide\",\"motion\":\"%s\",\"backend\":\"c\",\"device\":\"C reference "
            "(%d threads)\",\"verts\":%d,\"iterations\":%d,\"frames\":%d,\"ms_median\":%.3f,"
            "\"ms_p95\":%.3f,\"seed_ms_median\":%.3f,\"seed_ms_p95\":%.3f,\"penetrating\":%d,"
-           "\"max_pen_mm\":%.2f,\"seed_penetrating\":%d}\n",
+           "\"max_pen_mm\":%.2f,\"seed_penetrating\":%d,\"topology_ms\":%.3f}\n",
            motion_name, threads, npts, ITERATIONS, frames, r[1].ms[0], r[1].ms[1], r[0].ms[0],
-           r[0].ms[1], r[1].worst_pen, (double)r[1].worst_depth_mm, r[0].worst_pen);
+           r[0].ms[1], r[1].worst_pen, (double)r[1].worst_depth_mm, r[0].worst_pen, topo_ms);
     free(r[0].ms);
     free(r[1].ms);
     fit_model_destroy(m);
