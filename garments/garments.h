@@ -21,7 +21,7 @@
     X(GAR_ERR_TYPE, "field has the wrong type")                                                    \
     X(GAR_ERR_RANGE, "value out of range or not finite")                                           \
     X(GAR_ERR_CURVE, "edge curvature malformed")                                                   \
-    X(GAR_ERR_OUTLINE, "panel outline not a simple counter-clockwise loop")                        \
+    X(GAR_ERR_OUTLINE, "panel outline not a simple closed loop")                                   \
     X(GAR_ERR_STITCH, "stitch names a missing panel or edge")                                      \
     X(GAR_ERR_TOO_LARGE, "more panels, vertices or samples than allowed")                          \
     X(GAR_ERR_MESH, "panel could not be meshed with its outline kept")

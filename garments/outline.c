@@ -66,9 +66,45 @@ int gar_segments_cross(const float *a, const float *b, const float *c, const flo
            (o3 == 0 && within(c, d, a)) || (o4 == 0 && within(c, d, b));
 }
 
-int gar_check_outline(const gar_panel *pn, gar_reject *why)
+/* The outline's signed area (m^2, > 0 counter-clockwise), on GAR_OUTLINE_CHECK_SAMPLES points an
+ * edge; NAN without memory. */
+static double outline_area(const gar_panel *pn)
 {
     int ne = pn->num_edges, k = GAR_OUTLINE_CHECK_SAMPLES;
+    float *xy = malloc((size_t)(ne * k + 1) * 2 * sizeof *xy);
+    if (!xy)
+        return NAN;
+    for (int i = 0; i < ne; i++)
+        gar_edge_sample(pn, &pn->edges[i], k, xy + 2 * i * k); /* last overwritten by next */
+    double area = gar_polygon_area(xy, ne * k);
+    free(xy);
+    return area;
+}
+
+int gar_panel_make_ccw(gar_panel *pn, gar_reject *why)
+{
+    double area = outline_area(pn);
+    if (isnan(area))
+        return gar_refuse(why, GAR_ERR_NO_MEMORY, "panel '%s' outline", pn->name);
+    if (!(area < 0))
+        return 0;
+    for (int i = 0; i < pn->num_vertices; i++)
+        pn->uv_m[2 * i] = -pn->uv_m[2 * i];
+    for (int e = 0; e < pn->num_edges; e++) {
+        gar_edge *ed = &pn->edges[e];
+        ed->ctrl[0][0] = -ed->ctrl[0][0];
+        ed->ctrl[1][0] = -ed->ctrl[1][0];
+        ed->right = !ed->right; /* a mirrored arc turns the other way */
+    }
+    /* R Ry(180) = Rz(c) Ry(b) Rx(a) Ry(180) = Rz(c) Ry(b + 180) Rx(-a) */
+    pn->rotation_deg[0] = -pn->rotation_deg[0];
+    pn->rotation_deg[1] = pn->rotation_deg[1] + 180.0f;
+    return 1;
+}
+
+int gar_check_loop(const gar_panel *pn, gar_reject *why)
+{
+    int ne = pn->num_edges;
     for (int i = 0; i < ne; i++)
         if (pn->edges[i].v1 != pn->edges[(i + 1) % ne].v0)
             return gar_refuse(why, GAR_ERR_OUTLINE,
@@ -76,6 +112,15 @@ int gar_check_outline(const gar_panel *pn, gar_reject *why)
                               "%d (edges must form one loop)",
                               pn->name, i, pn->edges[i].v1, (i + 1) % ne,
                               pn->edges[(i + 1) % ne].v0);
+    return 0;
+}
+
+int gar_check_outline(const gar_panel *pn, gar_reject *why)
+{
+    int ne = pn->num_edges, k = GAR_OUTLINE_CHECK_SAMPLES;
+    int loop = gar_check_loop(pn, why);
+    if (loop)
+        return loop;
     int n = ne * k;
     float *xy = malloc((size_t)(n + 1) * 2 * sizeof *xy);
     if (!xy)
@@ -86,7 +131,7 @@ int gar_check_outline(const gar_panel *pn, gar_reject *why)
     double area = gar_polygon_area(xy, n);
     if (!(area > 0))
         rc = gar_refuse(why, GAR_ERR_OUTLINE,
-                        "panel '%s': outline runs clockwise or encloses no area (%.3g m^2)",
+                        "panel '%s': outline encloses no area (%.3g m^2)",
                         pn->name, area);
     for (int i = 0; i < n && !rc; i++)
         for (int j = i + 2; j < n && !rc; j++) {

@@ -208,7 +208,10 @@ static int read_panel(const cJSON *jp, gar_panel *pn, double scale, gar_reject *
         pn->translation_m[k] = (float)(t[k] / scale);
         pn->rotation_deg[k] = (float)r[k];
     }
-    return gar_check_outline(pn, why);
+    int rc = gar_check_loop(pn, why);
+    if (rc == 0)
+        rc = gar_panel_make_ccw(pn, why);
+    return rc < 0 ? rc : gar_check_outline(pn, why);
 }
 
 static int read_stitch(const cJSON *js, int si, gar_pattern *p, gar_reject *why)

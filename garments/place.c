@@ -223,12 +223,48 @@ static void panel_frame(const gar_panel *pn, const part_axis *ax, int torso, flo
         *uc = (a[0] - w0[0] * hs) * du[0] + (a[2] - w0[2] * hs) * du[2];
         return;
     }
-    /* A sleeve wraps the whole limb starting at the front, centred in u. */
-    float z[3] = {0, 0, 1}, zd = dot3(z, ax->dir);
+    /* A sleeve wraps the limb around the file's facing, centred in u: a one-piece sleeve facing
+       front wraps it all from the front, the halves of a two-piece one (the data sets' front
+       and back sleeve panels) each their own side. */
+    float nd = dot3(n, ax->dir);
     for (int k = 0; k < 3; k++)
-        e1[k] = z[k] - zd * ax->dir[k];
+        e1[k] = n[k] - nd * ax->dir[k];
+    if (!(dot3(e1, e1) > 1e-12f)) { /* a panel facing along the limb: from the front */
+        float z[3] = {0, 0, 1}, zd = dot3(z, ax->dir);
+        for (int k = 0; k < 3; k++)
+            e1[k] = z[k] - zd * ax->dir[k];
+    }
     norm3(e1);
     *uc = (lo + hi) / 2;
+}
+
+/* A limb panel's direction up the limb, towards the shoulder, in its own (u, v): towards its
+ * edges stitched to torso panels (the sleeve's cap), snapped to the nearest of +-u and +-v (the
+ * data sets' sleeves run along u, tryon's along v); +v when none is stitched to the torso. */
+static void limb_up(const gar_pattern *p, int pi, float up[2])
+{
+    const gar_panel *pn = &p->panels[pi];
+    float c[2] = {0, 0}, m[2] = {0, 0};
+    int n = 0;
+    for (int v = 0; v < pn->num_vertices; v++)
+        c[0] += pn->uv_m[2 * v] / pn->num_vertices, c[1] += pn->uv_m[2 * v + 1] / pn->num_vertices;
+    for (int s = 0; s < p->num_stitches; s++)
+        for (int k = 0; k < 2; k++) {
+            if (p->stitches[s].panel[k] != pi ||
+                gar_panel_part(p, p->stitches[s].panel[1 - k]) != GAR_PART_TORSO)
+                continue;
+            float mid[2];
+            gar_edge_eval(pn, &pn->edges[p->stitches[s].edge[k]], 0.5f, mid);
+            m[0] += mid[0], m[1] += mid[1], n++;
+        }
+    up[0] = 0, up[1] = 1;
+    if (n == 0)
+        return;
+    float d[2] = {m[0] / n - c[0], m[1] / n - c[1]};
+    if (fabsf(d[0]) > fabsf(d[1]))
+        up[0] = d[0] > 0 ? 1.0f : -1.0f, up[1] = 0;
+    else
+        up[1] = d[1] < 0 ? -1.0f : 1.0f;
 }
 
 /* The reference body's landmark heights (floor, hip, waist, chest, top) and this body's. */
@@ -291,10 +327,20 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, con
         const gar_panel *pn = &p->panels[pi];
         gar_part part = gar_panel_part(p, pi);
         build_axis(part, jn, body, xyz, ax);
-        float e1[3], e2[3], tv[3], uc, vmax = -INFINITY;
+        float e1[3], e2[3], tv[3], uc, vmax = -INFINITY, up[2] = {0, 1};
         panel_frame(pn, ax, part == GAR_PART_TORSO, hs, e1, &uc);
+        if (!ax->vertical) { /* a sleeve: (u, v) turned in its plane so that +v runs up the limb */
+            limb_up(p, pi, up);
+            float lo = INFINITY, hi = -INFINITY;
+            for (int v = 0; v < pn->num_vertices; v++) {
+                const float *q = pn->uv_m + 2 * v;
+                float u1 = q[0] * up[1] - q[1] * up[0];
+                lo = fminf(lo, u1), hi = fmaxf(hi, u1);
+            }
+            uc = (lo + hi) / 2;
+        }
         for (int v = 0; v < pn->num_vertices; v++)
-            vmax = fmaxf(vmax, pn->uv_m[2 * v + 1]);
+            vmax = fmaxf(vmax, pn->uv_m[2 * v] * up[0] + pn->uv_m[2 * v + 1] * up[1]);
         /* +v runs up the body, or up the limb towards the shoulder; e2 = tv x e1 makes +u
          * turn so that the panel's front normal (u x v) points away from the axis. */
         if (ax->vertical)
@@ -310,11 +356,12 @@ int gar_mesh_place(const gar_pattern *p, gar_mesh *m, const fit_model *body, con
             if (ax->vertical) {
                 gar_panel_to_world(pn, uv, w);
                 s = height_map_apply(&hm, w[1]);
-            } else {
-                s = (vmax - uv[1]) * hs; /* the cap's top at the shoulder joint */
+            } else { /* the cap's top at the shoulder joint */
+                s = (vmax - (uv[0] * up[0] + uv[1] * up[1])) * hs;
             }
             axis_point(ax, s, a);
-            float r = radius_at(ax, s) + clear, phi = (uv[0] - uc) / r;
+            float u1 = ax->vertical ? uv[0] : uv[0] * up[1] - uv[1] * up[0];
+            float r = radius_at(ax, s) + clear, phi = (u1 - uc) / r;
             for (int k = 0; k < 3; k++)
                 m->xyz[3 * v + k] = a[k] + r * (cosf(phi) * e1[k] + sinf(phi) * e2[k]);
         }

@@ -1,5 +1,5 @@
-/* Placement: every shipped garment, on each of the three body shape presets, lands outside the
- * body with each panel's front facing away from it. */
+/* Placement: every shipped garment, and a data set's shirt, on each of the three body shape
+ * presets, lands outside the body with each panel's front facing away from it. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -114,6 +114,80 @@ static void check_facing(const gar_pattern *p, const fit_model *body, const gar_
     }
 }
 
+/* Each sleeve panel placed along its arm: its vertices spread along the shoulder-wrist axis over
+ * at least 3/4 of the panel's longer side (the data set's sleeves are 31 cm long and 21 cm wide:
+ * placed across the arm they spread over 21). */
+static void check_sleeves_along_arms(const gar_pattern *p, const fit_model *body, const gar_mesh *m,
+                                     const char *what)
+{
+    const float *jn = fit_model_rest_joints(body);
+    for (int pi = 0; pi < m->num_panels; pi++) {
+        gar_part part = gar_panel_part(p, pi);
+        if (part != GAR_PART_ARM_L && part != GAR_PART_ARM_R)
+            continue;
+        const gar_panel *pn = &p->panels[pi];
+        float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int v = 0; v < pn->num_vertices; v++)
+            for (int k = 0; k < 2; k++)
+                lo[k] = fminf(lo[k], pn->uv_m[2 * v + k]),
+                hi[k] = fmaxf(hi[k], pn->uv_m[2 * v + k]);
+        float longer = fmaxf(hi[0] - lo[0], hi[1] - lo[1]);
+        const float *a = jn + 3 * (part == GAR_PART_ARM_L ? FIT_L_SHOULDER : FIT_R_SHOULDER);
+        const float *b = jn + 3 * (part == GAR_PART_ARM_L ? FIT_L_WRIST : FIT_R_WRIST);
+        float d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), tlo = INFINITY, thi = -INFINITY;
+        for (int v = 0; v < m->num_vertices; v++) {
+            if (m->panel_of[v] != pi)
+                continue;
+            const float *q = m->xyz + 3 * v;
+            float t = ((q[0] - a[0]) * d[0] + (q[1] - a[1]) * d[1] + (q[2] - a[2]) * d[2]) / len;
+            tlo = fminf(tlo, t), thi = fmaxf(thi, t);
+        }
+        if (!(thi - tlo >= 0.75f * longer))
+            fail_msg("%s: sleeve panel '%s' spreads %.3f m along its arm, its longer side %.3f m",
+                     what, pn->name, thi - tlo, longer);
+    }
+}
+
+/* A file of a public data set (tests/garments/data/NOTICE), its sleeves in two halves running
+ * along u: outside the body, facing away, each half along its arm, on every preset. */
+static void test_data_set_shirt_placed_on_presets(void **state)
+{
+    (void)state;
+    for (int s = 0; s < FIT_SHAPE_PRESETS; s++) {
+        char err[200], path[512], what[64];
+        body b = {0};
+        b.m = fit_model_create(
+            &(fit_model_desc){.shape = fit_shape_preset(s), .target_vertices = 6000}, err,
+            sizeof err);
+        if (!b.m)
+            fail_msg("body: %s", err);
+        b.nv = fit_model_vertex_count(b.m);
+        b.xyz = fit_model_rest_vertices(b.m);
+        b.normals = malloc((size_t)b.nv * 3 * sizeof *b.normals);
+        assert_non_null(b.normals);
+        assert_int_equal(fit_model_normals(b.m, b.xyz, b.normals), 0);
+        snprintf(path, sizeof path, "%s/garmentcode_shirt_mean.json", GAR_TEST_DATA_DIR);
+        snprintf(what, sizeof what, "data set shirt on %s", fit_shape_preset_name(s));
+        gar_pattern p;
+        gar_mesh m;
+        gar_reject why = {0};
+        assert_int_equal(gar_pattern_load(path, &p, &why), 0);
+        assert_int_equal(gar_panel_part(&p, gar_pattern_find_panel(&p, "left_sleeve_b")),
+                         GAR_PART_ARM_L);
+        assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
+        if (gar_mesh_place(&p, &m, b.m, NULL, NULL, NULL, &why))
+            fail_msg("%s: %s", what, why.detail);
+        check_outside(&b, &m, what);
+        check_facing(&p, b.m, &m, what);
+        check_sleeves_along_arms(&p, b.m, &m, what);
+        gar_mesh_free(&m);
+        gar_pattern_free(&p);
+        free(b.normals);
+        fit_model_destroy(b.m);
+    }
+}
+
 static void test_shipped_garments_placed_on_presets(void **state)
 {
     (void)state;
@@ -160,6 +234,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_garments_placed_on_presets),
+        cmocka_unit_test(test_data_set_shirt_placed_on_presets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
