@@ -74,6 +74,9 @@ typedef struct app {
     int bodies_received; /* simulated, superseded or skipped */
     int superseded;      /* waiting when the queue was full and a newer one came: not simulated */
     int settling;        /* published cut short by the frame budget (SIM_STATE_SETTLING) */
+    int inside_frames;   /* published with a vertex > 1 mm inside the body */
+    float deepest_mm, worst_strain; /* over every cloth published */
+    int strain_frames;              /* published over 3 % max or 1 % p99 strain */
     pending_body waiting[BUS_QUEUE_MAX];
     bus_queue queue; /* which of `waiting` wait, oldest first */
     sim *sim;
@@ -466,6 +469,11 @@ static void step_body(app *a, pending_body *b)
     }
     a->diverged_run = r == -SIM_ERR_DIVERGED ? a->diverged_run + 1 : 0;
     a->settling += st.state == SIM_STATE_SETTLING;
+    a->inside_frames += st.penetrating > 0;
+    a->deepest_mm = fmaxf(a->deepest_mm, st.max_pen_mm);
+    a->worst_strain = fmaxf(a->worst_strain, st.max_strain);
+    a->strain_frames += !(st.max_strain <= a->desc.retry_max_strain) || /* the strain goals */
+                        !(st.p99_strain <= a->desc.retry_p99_strain);
     if (r == 0)
         sim_topologies_mark_live(&a->topo, b->topology_id, now);
     if (r == -SIM_ERR_DIVERGED)
@@ -696,6 +704,12 @@ int main(int argc, char **argv)
             "(--frame-budget %s), %d without settle rounds (--settle-floor %g mm)\n",
             a.frames_done, a.superseded, a.skipped, a.refused, (unsigned long long)bs->rejected,
             a.settling, a.over_budget, budget_name, a.settle_skipped, (double)a.settle_floor_mm);
+    fprintf(stderr,
+            "tryon-sim: cloth as published: %d frames with a vertex more than 1 mm inside the "
+            "body (deepest %.1f mm), %d over %g %% max or %g %% p99 strain (worst %.1f %%)\n",
+            a.inside_frames, (double)a.deepest_mm, a.strain_frames,
+            100.0 * (double)a.desc.retry_max_strain, 100.0 * (double)a.desc.retry_p99_strain,
+            100.0 * (double)a.worst_strain);
     int failed = a.fatal || (a.frames_wanted > 0 && a.frames_done < a.frames_wanted && !a.sim);
     fprintf(stderr, "tryon-sim: %llu CONTROL accepted, %llu dropped as malformed, %d refused\n",
             (unsigned long long)bus_sub_stats(control_sub)->accepted,

@@ -9,7 +9,8 @@
 #   nice0    the defaults with --mirror-nice 0
 # One line a run: the load average before it, then per stage (bodyfit, sim, mirror) the frames
 # dropped and the latency p95 from capture over the whole session, then the same after the
-# summary's warm-up (the first 15 frames: docs/pipeline.md, "The latency summary").
+# summary's warm-up (the first 15 frames: docs/pipeline.md, "The latency summary"), and the
+# sim's count of frames published with a vertex inside the fitted body or over the strain goals.
 #   docs/figures/pipeline_figures.sh BUILD_DIR [--window]
 set -euo pipefail
 build=$(realpath "${1:?usage: pipeline_figures.sh BUILD_DIR [--window]}")
@@ -50,6 +51,13 @@ one() {
         /warm-up/ { w = 1 }
         w && $1 ~ /^(sim|mirror)$/ && NF == 6 { s = s sprintf(" %s %s, %s ms;", $1, $3, $5) }
         END { print n ":" r " after warm-up:" s }' "$out/run.txt"
+    # the cloth as published, from the sim's log (docs/sim.md, "tryon-sim")
+    local logs
+    logs=$(sed -n 's/^== logs: //p' "$out/run.txt")
+    if [ -n "$logs" ] && [ -f "$logs/tryon-sim.log" ]; then
+        sed -n 's/^tryon-sim: cloth as published: /    cloth: /p' "$logs/tryon-sim.log"
+        case $logs in */tryon-run-*) rm -rf "$logs" ;; esac
+    fi
 }
 for k in $(seq "$runs"); do
     for v in $variants; do

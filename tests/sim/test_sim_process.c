@@ -22,6 +22,7 @@
 typedef struct counts {
     int cloth, timing, cloth_with_tris, nv, last_seq, before_last_seq;
     int topology, garments; /* the last CLOTH's topology_id, and how many ids were seen */
+    int inside;             /* CLOTH with a vertex > 1 mm inside the body */
 } counts;
 
 static void on_cloth(const char *ch, const void *m, void *user)
@@ -30,6 +31,7 @@ static void on_cloth(const char *ch, const void *m, void *user)
     const tryon_cloth_t *c = m;
     counts *n = user;
     n->cloth++;
+    n->inside += c->penetrating > 0;
     n->cloth_with_tris += c->num_triangle_indices > 0;
     n->nv = c->num_vertex_coords / 3;
     n->before_last_seq = n->last_seq;
@@ -174,6 +176,11 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
                 strstr(log, "SIM_ERR_DEGENERATE"));
     assert_non_null(strstr(log, "has no vertices"));
     assert_non_null(strstr(log, "1 BODY messages dropped"));
+    /* the summary of the cloth published: as many frames inside as the CLOTH messages said */
+    const char *sum = strstr(log, "cloth as published: ");
+    int inside = -1;
+    assert_true(sum && sscanf(sum, "cloth as published: %d frames", &inside) == 1);
+    assert_int_equal(inside, s.n.inside);
     free(log);
 }
 
