@@ -83,6 +83,7 @@ typedef struct app {
     pending_body waiting[BUS_QUEUE_MAX];
     bus_queue queue; /* which of `waiting` wait, oldest first */
     sim *sim;
+    sim *replaced; /* the garment dropped (drop_sim), until the next is made: its body state */
     char garment_id[64];
     sim_topologies topo;  /* body triangle lists per topology id (bounded, live one pinned) */
     uint32_t garment_gen; /* the list (sim_topology.gen) the garment was made on */
@@ -192,6 +193,11 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
                 sim_error_name(why.code), why.detail);
         return -1;
     }
+    if (a->replaced) { /* the body's tree and adjacency, not built again */
+        sim_take_body(a->sim, a->replaced);
+        sim_destroy(a->replaced);
+        a->replaced = NULL;
+    }
     if (a->outfit.is_pattern &&
         sim_pattern_settle(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &why) < 0) {
         fprintf(stderr, "tryon-sim: body %d: settling the pattern: %s; body refused\n", b->seq,
@@ -221,10 +227,14 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     return 0;
 }
 
-/* The garment is dropped, to be made again on the next body. */
+/* The garment is dropped, to be made again on the next body; the sim is kept until then, so that
+ * the new one takes its body collision state (sim_take_body) instead of building it again. */
 static void drop_sim(app *a)
 {
-    sim_destroy(a->sim);
+    if (a->sim) {
+        sim_destroy(a->replaced);
+        a->replaced = a->sim;
+    }
     a->sim = NULL;
     a->diverged_run = 0;
 }
@@ -426,7 +436,6 @@ static void step_body(app *a, pending_body *b)
     }
     if (b->state == TRYON_BODY_T_STATE_INIT)
         a->made_on_init = 1;
-    sim *before = NULL; /* the garment made again on the same body: its collision state kept */
     if (a->sim && a->made_on_init && b->state == TRYON_BODY_T_STATE_TRACKING) {
         a->made_on_init = 0;
         if (shape_moved(a, b)) {
@@ -434,21 +443,15 @@ static void step_body(app *a, pending_body *b)
                     "tryon-sim: body %d: the fitter's shape is settled (init -> tracking); the "
                     "garment is made again on it\n",
                     b->seq);
-            before = a->sim;
-            a->sim = NULL;
+            drop_sim(a);
         }
     }
-    int made = !a->sim;
-    if (made && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
-        sim_destroy(before);
+    if (!a->sim && make_sim(a, b, topo) < 0 && fall_back(a, b, topo) < 0) {
         a->refused++;
         if (a->fatal)
             stop_requested = 1;
         return;
     }
-    if (made && before)
-        sim_take_body(a->sim, before);
-    sim_destroy(before);
     float budget = a->desc.frame_budget_ms;
     if (a->budget_auto)
         budget = sim_pace_budget_ms(&a->pace, b->utime_capture, bus_now_wall_us(), a->deadline_ms,
@@ -721,6 +724,7 @@ int main(int argc, char **argv)
     bus_unsubscribe(a.lcm, sub);
     lcm_destroy(a.lcm);
     sim_destroy(a.sim);
+    sim_destroy(a.replaced);
     sim_topologies_free(&a.topo);
     if (a.stats)
         fclose(a.stats);
