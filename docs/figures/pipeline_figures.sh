@@ -16,14 +16,10 @@ set -euo pipefail
 build=$(realpath "${1:?usage: pipeline_figures.sh BUILD_DIR [--window]}")
 view=${2:-}
 cd "$(dirname "$0")/../.."
-bin() { find "$build" -maxdepth 3 -type f -name "$1" -perm -u+x | head -n 1; }
+. docs/figures/walk_session.sh
 runs=${PIPELINE_FIG_RUNS:-4}
 variants=${PIPELINE_FIG_VARIANTS:-default before nice0}
-export LP_NUM_THREADS=${LP_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
-rec="$build/recordings/figures_walk_150_6000"
-if [ ! -f "$rec/INDEX.txt" ]; then
-    "$(bin tryon-synth)" --out "$rec" --motion walk --frames 150 --vertices 6000 >/dev/null
-fi
+rec=$(walk_recording)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mkdir -p "$out/before"

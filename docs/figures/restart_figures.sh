@@ -12,12 +12,8 @@ shift
 stages=("$@")
 [ ${#stages[@]} -gt 0 ] || stages=(tryon-bodyfit tryon-sim tryon-mirror)
 cd "$(dirname "$0")/../.."
-bin() { find "$build" -maxdepth 3 -type f -name "$1" -perm -u+x | head -n 1; }
-export LP_NUM_THREADS=${LP_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
-rec="$build/recordings/figures_walk_150_6000"
-if [ ! -f "$rec/INDEX.txt" ]; then
-    "$(bin tryon-synth)" --out "$rec" --motion walk --frames 150 --vertices 6000 >/dev/null
-fi
+. docs/figures/walk_session.sh
+rec=$(walk_recording)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for stage in "${stages[@]}"; do

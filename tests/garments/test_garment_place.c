@@ -149,43 +149,42 @@ static void check_sleeves_along_arms(const gar_pattern *p, const fit_model *body
     }
 }
 
-/* A file of a public data set (tests/garments/data/NOTICE), its sleeves in two halves running
- * along u: outside the body, facing away, each half along its arm, on every preset. */
-static void test_data_set_shirt_placed_on_presets(void **state)
+static body body_of_preset(int s)
 {
-    (void)state;
-    for (int s = 0; s < FIT_SHAPE_PRESETS; s++) {
-        char err[200], path[512], what[64];
-        body b = {0};
-        b.m = fit_model_create(
-            &(fit_model_desc){.shape = fit_shape_preset(s), .target_vertices = 6000}, err,
-            sizeof err);
-        if (!b.m)
-            fail_msg("body: %s", err);
-        b.nv = fit_model_vertex_count(b.m);
-        b.xyz = fit_model_rest_vertices(b.m);
-        b.normals = malloc((size_t)b.nv * 3 * sizeof *b.normals);
-        assert_non_null(b.normals);
-        assert_int_equal(fit_model_normals(b.m, b.xyz, b.normals), 0);
-        snprintf(path, sizeof path, "%s/garmentcode_shirt_mean.json", GAR_TEST_DATA_DIR);
-        snprintf(what, sizeof what, "data set shirt on %s", fit_shape_preset_name(s));
-        gar_pattern p;
-        gar_mesh m;
-        gar_reject why = {0};
-        assert_int_equal(gar_pattern_load(path, &p, &why), 0);
-        assert_int_equal(gar_panel_part(&p, gar_pattern_find_panel(&p, "left_sleeve_b")),
-                         GAR_PART_ARM_L);
-        assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
-        if (gar_mesh_place(&p, &m, b.m, NULL, NULL, NULL, &why))
-            fail_msg("%s: %s", what, why.detail);
-        check_outside(&b, &m, what);
-        check_facing(&p, b.m, &m, what);
-        check_sleeves_along_arms(&p, b.m, &m, what);
-        gar_mesh_free(&m);
-        gar_pattern_free(&p);
-        free(b.normals);
-        fit_model_destroy(b.m);
-    }
+    char err[200];
+    body b = {0};
+    b.m = fit_model_create(&(fit_model_desc){.shape = fit_shape_preset(s), .target_vertices = 6000},
+                           err, sizeof err);
+    if (!b.m)
+        fail_msg("body: %s", err);
+    b.nv = fit_model_vertex_count(b.m);
+    b.xyz = fit_model_rest_vertices(b.m);
+    b.normals = malloc((size_t)b.nv * 3 * sizeof *b.normals);
+    assert_non_null(b.normals);
+    assert_int_equal(fit_model_normals(b.m, b.xyz, b.normals), 0);
+    return b;
+}
+
+/* The pattern at path placed on b (its panel named want_panel classed as want): outside the body,
+ * facing away; with sleeves, each sleeve panel along its arm. */
+static void place_and_check(const body *b, const char *path, const char *want_panel, gar_part want,
+                            int sleeves, const char *what)
+{
+    gar_pattern p;
+    gar_mesh m;
+    gar_reject why = {0};
+    if (gar_pattern_load(path, &p, &why))
+        fail_msg("%s: %s", path, why.detail);
+    assert_int_equal(gar_panel_part(&p, gar_pattern_find_panel(&p, want_panel)), want);
+    assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
+    if (gar_mesh_place(&p, &m, b->m, NULL, NULL, NULL, &why))
+        fail_msg("%s: %s", what, why.detail);
+    check_outside(b, &m, what);
+    check_facing(&p, b->m, &m, what);
+    if (sleeves)
+        check_sleeves_along_arms(&p, b->m, &m, what);
+    gar_mesh_free(&m);
+    gar_pattern_free(&p);
 }
 
 static void test_shipped_garments_placed_on_presets(void **state)
@@ -195,36 +194,29 @@ static void test_shipped_garments_placed_on_presets(void **state)
     const gar_part want_part[] = {GAR_PART_ARM_L, GAR_PART_LEG_R, GAR_PART_TORSO, GAR_PART_TORSO};
     const char *want_panel[] = {"sleeve_l", "front_r", "front", "back"};
     for (int s = 0; s < FIT_SHAPE_PRESETS; s++) {
-        char err[200];
-        body b = {0};
-        b.m = fit_model_create(
-            &(fit_model_desc){.shape = fit_shape_preset(s), .target_vertices = 6000}, err,
-            sizeof err);
-        if (!b.m)
-            fail_msg("body: %s", err);
-        b.nv = fit_model_vertex_count(b.m);
-        b.xyz = fit_model_rest_vertices(b.m);
-        b.normals = malloc((size_t)b.nv * 3 * sizeof *b.normals);
-        assert_non_null(b.normals);
-        assert_int_equal(fit_model_normals(b.m, b.xyz, b.normals), 0);
+        body b = body_of_preset(s);
         for (int g = 0; g < 4; g++) {
             char path[512], what[64];
             snprintf(path, sizeof path, "%s/%s.json", GAR_PATTERN_DIR, names[g]);
             snprintf(what, sizeof what, "%s on %s", names[g], fit_shape_preset_name(s));
-            gar_pattern p;
-            gar_mesh m;
-            gar_reject why = {0};
-            assert_int_equal(gar_pattern_load(path, &p, &why), 0);
-            assert_int_equal(gar_panel_part(&p, gar_pattern_find_panel(&p, want_panel[g])),
-                             want_part[g]);
-            assert_int_equal(gar_mesh_build(&p, &(gar_mesh_desc){.spacing_m = 0.03f}, &m, &why), 0);
-            if (gar_mesh_place(&p, &m, b.m, NULL, NULL, NULL, &why))
-                fail_msg("%s: %s", what, why.detail);
-            check_outside(&b, &m, what);
-            check_facing(&p, b.m, &m, what);
-            gar_mesh_free(&m);
-            gar_pattern_free(&p);
+            place_and_check(&b, path, want_panel[g], want_part[g], 0, what);
         }
+        free(b.normals);
+        fit_model_destroy(b.m);
+    }
+}
+
+/* A file of a public data set (tests/garments/data/NOTICE), its sleeves in two halves running
+ * along u: outside the body, facing away, each half along its arm, on every preset. */
+static void test_data_set_shirt_placed_on_presets(void **state)
+{
+    (void)state;
+    for (int s = 0; s < FIT_SHAPE_PRESETS; s++) {
+        char path[512], what[64];
+        body b = body_of_preset(s);
+        snprintf(path, sizeof path, "%s/garmentcode_shirt_mean.json", GAR_TEST_DATA_DIR);
+        snprintf(what, sizeof what, "data set shirt on %s", fit_shape_preset_name(s));
+        place_and_check(&b, path, "left_sleeve_b", GAR_PART_ARM_L, 1, what);
         free(b.normals);
         fit_model_destroy(b.m);
     }
