@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FITP_TRIANGLES_EVERY 30 /* frames between resends of the triangle list (1 s at 30 fps) */
+/* frames between resends of the triangle list: a sim that starts, or starts again, dresses the
+   body within a third of a second at 30 fps */
+#define FITP_TRIANGLES_EVERY 10
 #define FITP_MESSAGES_MAX    20 /* bad-frame messages printed before only counting them */
 /* --queue's default: a frame that overruns (a person's first, fitted in 8 turns) makes the next
  * wait rather than be skipped; a longer overrun still skips, so latency stays bounded. */
@@ -189,7 +191,7 @@ static void usage(FILE *f)
                "default 2; latest: 1), oldest first, and one arriving at a full queue replaces\n"
                "the oldest waiting (--queue all: every frame is fitted, in order). --frames:\n"
                "exit after N bodies.\n"
-               "--triangles-every: the triangles with every Nth body (30). At the end, where the\n"
+               "--triangles-every: the triangles with every Nth body (10). At the end, where the\n"
                "CPU went: starting, a body fitted and published, a DEPTH received.\n");
     fit_tracker_options_help(f);
     fprintf(f, "LCM: $TRYON_LCM_URL; channels prefixed by $TRYON_CHANNEL_PREFIX.\n");
