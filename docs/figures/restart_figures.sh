@@ -6,6 +6,8 @@
 # run in ms at 30 fps, and which stages the launcher restarted.
 #   docs/figures/restart_figures.sh BUILD_DIR [STAGE...]   (default: tryon-bodyfit tryon-sim
 #                                                           tryon-mirror)
+# RESTART_FIG_TRYON: the `tryon` that reads the recorded sessions (default the build's; a build
+# from before `tryon path --each` is measured with a newer one's).
 set -euo pipefail
 build=$(realpath "${1:?usage: restart_figures.sh BUILD_DIR [STAGE...]}")
 shift
@@ -31,7 +33,7 @@ for stage in "${stages[@]}"; do
     wait "$launcher" || true
     # the column of the stage in `tryon path --each`: bodyfit, sim, mirror work (4, 6, 8)
     case $stage in tryon-bodyfit) col=4 ;; tryon-sim) col=6 ;; *) col=8 ;; esac
-    "$(bin tryon)" path "$out/run/rec/session.lcmlog" --each | awk -v c="$col" -v s="$stage" '
+    "${RESTART_FIG_TRYON:-$(bin tryon)}" path "$out/run/rec/session.lcmlog" --each | awk -v c="$col" -v s="$stage" '
         /^ *[0-9]+ / { if ($c == "-") { run++; if (run > worst) worst = run } else run = 0 }
         END { printf "%s killed: longest run of frames it did not publish %d (%.0f ms at 30 fps)\n",
                      s, worst, worst * 1000 / 30 }'
