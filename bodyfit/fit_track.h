@@ -140,6 +140,10 @@ typedef struct fit_result {
     float explained, free_space;
     int unexplained_cluster; /* the most unexplained points lying together (a lost limb) */
     unsigned doubt;
+    /* The frame's work: Gauss-Newton iterations of the pose (every solve this frame, the
+     * measuring pass after each not counted) and shape steps (docs/bodyfit.md, "A person's
+     * first frames"). */
+    int iterations, shape_steps;
     double ms_segment, ms_fit, ms_skin; /* wall clock */
     /* The same three in this thread's CPU time (what a loaded machine does not inflate). */
     double cpu_ms_segment, cpu_ms_fit, cpu_ms_skin;

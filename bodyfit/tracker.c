@@ -98,6 +98,7 @@ struct fit_tracker {
     int failing_frames;   /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
     int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
+    int iterations, shape_steps; /* this frame's work (fit_result) */
 };
 
 /* Builds the coarse and the published model of a shape; keeps the old ones on failure. */
@@ -272,6 +273,14 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
  * of CPU a frame when every frame took one). */
 #define TRACK_SHAPE_EVERY 8
 
+/* fit_solve, its iterations counted in the frame's work. */
+static int track_solve(fit_tracker *t, const fit_problem *pb, fit_pose *pose, fit_stats *st)
+{
+    int rc = fit_solve(t->solver, pb, pose, st);
+    t->iterations += st->iterations;
+    return rc;
+}
+
 static void track_shape_apply(fit_tracker *t)
 {
     fit_shape_base_apply(&t->base_coarse, t->coarse, &t->q);
@@ -328,6 +337,7 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
     float gain =
         !init ? TRACK_SHAPE_EVERY * TRACK_SHAPE_GAIN_AFTER
               : (t->shape_learnt ? 1.0f / (float)(t->shape_learnt + 2) : TRACK_SHAPE_GAIN_INIT);
+    t->shape_steps++;
     if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
                        &t->q) == 0)
         track_shape_apply(t);
@@ -347,7 +357,7 @@ static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fi
     pb->max_match_m = TRACK_GATE_TRACK_M;
     for (int k = 0; k < TRACK_SHAPE_FIRST_ROUNDS && !rc; ++k) {
         track_shape_update(t, pose, pb->points);
-        rc = fit_solve(t->solver, pb, pose, st);
+        rc = track_solve(t, pb, pose, st);
     }
     return rc;
 }
@@ -366,7 +376,7 @@ static int track_find_limb(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_
     fit_pose alt = *pose;
     fit_stats st2;
     fit_limb_reaim(t->coarse, &alt, at);
-    if (fit_solve(t->solver, pb, &alt, &st2)) {
+    if (track_solve(t, pb, &alt, &st2)) {
         *fitted = 0;
         return cluster;
     }
@@ -475,6 +485,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     memset(out, 0, sizeof *out);
     out->shape = t->shape;
     out->topology_id = t->topology_id;
+    t->iterations = t->shape_steps = 0;
     double t0 = tryon_now_ms(), c0 = track_cpu_ms();
     fit_segment sg;
     fit_frame_error e = fit_segmenter_frame(t->seg, v, &sg, out->message, sizeof out->message);
@@ -524,7 +535,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     fit_pose pose = t->prev;
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
-    int rc = fit_solve(t->solver, &pb, &pose, &st);
+    int rc = track_solve(t, &pb, &pose, &st);
     if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && !sg.touches_side &&
         track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
         rc = track_shape_first(t, &pb, &pose, &st);
@@ -532,6 +543,8 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = tryon_now_ms() - t1;
     out->cpu_ms_fit = track_cpu_ms() - c1;
+    out->iterations = t->iterations;
+    out->shape_steps = t->shape_steps;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
     out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
@@ -559,6 +572,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
         track_shape_update(t, &t->pose, t->pts);
         t->shape_learnt++;
     }
+    out->shape_steps = t->shape_steps;
     double t2 = tryon_now_ms(), c2 = track_cpu_ms();
     t->published = t->pose;
     if (fresh)
