@@ -284,8 +284,19 @@ static void cloth_frame(bench_cloth **c, int *off, const bench_opts *o, const fi
 /* The most work in any one frame; with --first N a line for each of the first N frames, the
  * cost of a person entering (docs/bodyfit.md, "A person's first frames"). */
 static void frame_work(const bench_opts *o, totals *tot, const char *name, int k,
-                       const fit_result *r, double wall_ms, const double cpu_sub[3])
+                       const fit_result *r, double wall_ms, const double cpu_sub[3],
+                       float shape_prev[FIT_SHAPE_PARAMS], int *have_shape)
 {
+    /* How far the shape moved since the last frame: its largest parameter's change, mm (what
+     * a garment made on the first body would miss; docs/bodyfit.md). */
+    float shape[FIT_SHAPE_PARAMS], moved = 0.0f;
+    fit_shape_to_array(&r->shape, shape);
+    for (int i = 0; i < FIT_SHAPE_PARAMS && *have_shape; ++i) {
+        float d = fabsf(shape[i] - shape_prev[i]);
+        moved = d > moved ? d : moved;
+    }
+    *have_shape = r->vertices != NULL;
+    memcpy(shape_prev, shape, sizeof shape);
     if (r->iterations > tot->iterations_max)
         tot->iterations_max = r->iterations;
     if (r->shape_steps > tot->shape_steps_max)
@@ -294,8 +305,8 @@ static void frame_work(const bench_opts *o, totals *tot, const char *name, int k
         return;
     if (wall_ms > tot->first_ms_max)
         tot->first_ms_max = wall_ms;
-    printf("first %-24s %3d %d %7.2f %7.2f %7.2f %7.2f %4d %2d\n", name, k, r->state, wall_ms,
-           cpu_sub[0], cpu_sub[1], cpu_sub[2], r->iterations, r->shape_steps);
+    printf("first %-24s %3d %d %7.2f %7.2f %7.2f %7.2f %4d %2d %6.1f\n", name, k, r->state, wall_ms,
+           cpu_sub[0], cpu_sub[1], cpu_sub[2], r->iterations, r->shape_steps, 1000.0f * moved);
 }
 
 static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
@@ -369,8 +380,8 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     int nms = 0, cap = 0, entered = -1;
     rec_scores s = {0};
     s.recover = -1;
-    float prev_joints[FIT_JOINT_COUNT * 3];
-    int have_prev = 0;
+    float prev_joints[FIT_JOINT_COUNT * 3], shape_prev[FIT_SHAPE_PARAMS] = {0};
+    int have_prev = 0, have_shape = 0;
     const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
 #ifdef BENCH_FIT_CLOTH
     bench_cloth *cloth = NULL;
@@ -410,7 +421,7 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
             push(&tot->sub[q], &tot->nsub[q], &tot->cap_sub[q], sub[q]);
         push(&ms, &nms, &cap, dt);
         push(&tot->ms, &tot->nms, &tot->cap, dt);
-        frame_work(o, tot, name, k, &r, dt, sub);
+        frame_work(o, tot, name, k, &r, dt, sub, shape_prev, &have_shape);
         if (jl && r.vertices && write_out(out_dir, k, &r, v.camera_to_world, jl))
             fprintf(stderr, "tryon-bench-fit: %s: frame %d not written\n", out_dir, k);
         if (jl && !r.vertices)
@@ -494,7 +505,8 @@ static void usage(FILE *f)
             "fit_shape order) the average preset's (what that parameter's error costs).\n"
             "--first N: a line for each of a recording's first N frames, 'first recording\n"
             "frame state wall_ms segment_cpu_ms fit_cpu_ms skin_cpu_ms iterations\n"
-            "shape_steps' (what a person entering costs; first_ms_max in the JSON line).\n");
+            "shape_steps shape_moved_mm' (what a person entering costs; the largest shape\n"
+            "parameter's change since the last frame; first_ms_max in the JSON line).\n");
     fit_tracker_options_help(f);
 }
 

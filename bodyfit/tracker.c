@@ -38,6 +38,21 @@ static double track_cpu_ms(void)
 /* The pelvis joint stands this far behind the visible front surface (half a body depth). */
 #define TRACK_BODY_HALF_DEPTH_M 0.10f
 
+/* A person's first frames: the shape and the pose fitted in turns (a shape step at half gain,
+ * then a pose iteration), so that the shape moves the published joints over the first frames
+ * rather than over the next ones (jitter standing still). */
+/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
+ * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
+ * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these). */
+#define TRACK_SHAPE_FIRST_ROUNDS 8
+/* A person's first frame cost 88 iterations and 40 ms when each turn had 6 pose iterations and
+ * the fit from the rest pose 40: the next frames waited behind it. One iteration a turn, and 12
+ * from the rest pose, leave the errors as they were (docs/bodyfit.md, "A person's first
+ * frames"); --start-turns spreads the turns over the first frames (cheaper frames, more
+ * jitter: the shape then moves the published joints after the first frame). */
+#define TRACK_START_TURN_ITERATIONS 1
+#define TRACK_INIT_ITERATIONS       12
+
 /* Doubting a fit (docs/bodyfit.md, "Failure"): measured causes, each against what a sound fit of
  * the same person shows. A doubtful fit is still published, with state INIT, and the shape does
  * not learn from it; TRACKING comes back after TRACK_SOUND_FRAMES sound frames in a row. */
@@ -90,6 +105,7 @@ struct fit_tracker {
     float *shape_scratch; /* fit_shape_step's posed coarse meshes */
     int have_pose, have_last, person_frames, topology_id;
     int shape_learnt; /* frames the shape has learnt from at the fast gain */
+    int start_turns;  /* a person's first turns of shape and pose still to do */
     double height_sum;
     int height_n;
     fit_smoother smooth;  /* the published pose only */
@@ -159,7 +175,8 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->fit_vertices = x->fit_vertices ? x->fit_vertices : 1500;
     x->points = x->points > 0 ? x->points : FIT_TRACK_POINTS;
     x->iterations = x->iterations > 0 ? x->iterations : 6;
-    x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
+    x->init_iterations = x->init_iterations > 0 ? x->init_iterations : TRACK_INIT_ITERATIONS;
+    x->start_turns = x->start_turns > 0 ? x->start_turns : TRACK_SHAPE_FIRST_ROUNDS;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
@@ -343,21 +360,15 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
         track_shape_apply(t);
 }
 
-/* A person's first frame: the shape and the pose fitted in turns, so that the shape moves the
- * published joints on this frame rather than over the next ones (jitter standing still). */
-/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
- * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
- * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these).
- * Costs the first frame of a person about 8 frames' fit. */
-#define TRACK_SHAPE_FIRST_ROUNDS 8
-static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st)
+static int track_shape_turns(fit_tracker *t, const fit_problem *pb, fit_pose *pose, fit_stats *st)
 {
+    fit_problem turn = *pb;
+    turn.iterations = TRACK_START_TURN_ITERATIONS;
+    turn.max_match_m = TRACK_GATE_TRACK_M;
     int rc = 0;
-    pb->iterations = t->d.iterations;
-    pb->max_match_m = TRACK_GATE_TRACK_M;
-    for (int k = 0; k < TRACK_SHAPE_FIRST_ROUNDS && !rc; ++k) {
+    for (int k = 0; k < t->d.start_turns && t->start_turns > 0 && !rc; ++k, --t->start_turns) {
         track_shape_update(t, pose, pb->points);
-        rc = track_solve(t, pb, pose, st);
+        rc = track_solve(t, &turn, pose, st);
     }
     return rc;
 }
@@ -467,6 +478,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
     t->shape_learnt = 0;
+    t->start_turns = 0;
     t->rms_base = 0.0f;
     t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
     t->failing_frames = 0;
@@ -536,9 +548,11 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = track_solve(t, &pb, &pose, &st);
-    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && !sg.touches_side &&
-        track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
-        rc = track_shape_first(t, &pb, &pose, &st);
+    int whole = !sg.touches_side && track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS;
+    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && whole)
+        t->start_turns = TRACK_SHAPE_FIRST_ROUNDS;
+    if (!rc && t->start_turns > 0 && whole)
+        rc = track_shape_turns(t, &pb, &pose, &st);
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = tryon_now_ms() - t1;
@@ -567,7 +581,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
      * 40-44 mm off once facing the camera); after them a doubtful fit does not teach the shape
      * (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm). */
     unsigned partial = FIT_DOUBT_SIDE_ON | FIT_DOUBT_OUT_OF_VIEW;
-    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) &&
+    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) && !t->start_turns &&
         (!out->doubt || t->person_frames <= t->d.shape_frames)) {
         track_shape_update(t, &t->pose, t->pts);
         t->shape_learnt++;
