@@ -52,6 +52,10 @@ static double track_cpu_ms(void)
  * jitter: the shape then moves the published joints after the first frame). */
 #define TRACK_START_TURN_ITERATIONS 1
 #define TRACK_INIT_ITERATIONS       12
+/* A restart after a part was lost for good (below) starts from a rest pose far from the body's
+ * (arms crossed: 12 iterations left the forearms in the chest 12 frames longer,
+ * test_fit_doubt); it is rare, and keeps the 40 a person's first frame had. */
+#define TRACK_RESTART_ITERATIONS 40
 
 /* Doubting a fit (docs/bodyfit.md, "Failure"): measured causes, each against what a sound fit of
  * the same person shows. A doubtful fit is still published, with state INIT, and the shape does
@@ -535,7 +539,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                       .roi = {roi[0], roi[1], roi[2], roi[3]},
                       .view = v,
                       .prev = fresh ? NULL : &t->pose,
-                      .iterations = fresh ? t->d.init_iterations : t->d.iterations,
+                      .iterations = !fresh             ? t->d.iterations
+                                    : t->person_frames ? TRACK_RESTART_ITERATIONS
+                                                       : t->d.init_iterations,
                       .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
                       .temporal = fresh ? 0.0f : t->d.temporal,
                       .explained_m = TRACK_EXPLAINED_RMSES * 1e-3f * t->rms_base * z2};
