@@ -1,7 +1,7 @@
 #!/bin/sh
 # A person's first frames in tryon-bodyfit (docs/bodyfit.md, "A person's first frames"): this
-# build against an earlier one (FITSTART_BASE_COMMIT, default 119f11c, the first frame fitted
-# in 88 iterations), built once in BUILD_DIR/fitstart-base. Output in BUILD_DIR/fitstart/:
+# build against an earlier one (FITSTART_BASE_COMMIT, default 37e0003: the first frame fitted
+# in 88 iterations, with tryon-bench-fit's --first lines), built once in BUILD_DIR/fitstart-base. Output in BUILD_DIR/fitstart/:
 #   first.txt      tryon-bench-fit --first 15 on walk and still, three shapes, both builds
 #                  alternated FITSTART_RUNS times (3): a line a frame, 'first recording frame
 #                  state wall_ms segment_cpu fit_cpu skin_cpu iterations shape_steps
@@ -20,7 +20,7 @@
 set -eu
 B=${1:-build}
 RUNS=${FITSTART_RUNS:-3}
-BASE=${FITSTART_BASE_COMMIT:-119f11c}
+BASE=${FITSTART_BASE_COMMIT:-37e0003}
 TOP=$(cd "$(dirname "$0")/../.." && pwd)
 B=$(cd "$B" && pwd)
 OUT=$B/fitstart
