@@ -346,7 +346,9 @@ static void track_height_update(fit_tracker *t, const fit_segment *sg, const fit
     track_shape_apply(t);
 }
 
-static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points)
+/* One shape step; the coarse model is left with the new shape (fit_shape_step), and with
+ * publish the published model and shape too (a turn leaves those to the last turn). */
+static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points, int publish)
 {
     int init = t->shape_learnt < t->d.shape_frames;
     if (!init && (t->shape_learnt - t->d.shape_frames) % TRACK_SHAPE_EVERY)
@@ -360,7 +362,8 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
               : (t->shape_learnt ? 1.0f / (float)(t->shape_learnt + 2) : TRACK_SHAPE_GAIN_INIT);
     t->shape_steps++;
     if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
-                       &t->q) == 0)
+                       &t->q) == 0 &&
+        publish)
         track_shape_apply(t);
 }
 
@@ -371,9 +374,10 @@ static int track_shape_turns(fit_tracker *t, const fit_problem *pb, fit_pose *po
     turn.max_match_m = TRACK_GATE_TRACK_M;
     int rc = 0;
     for (int k = 0; k < t->d.start_turns && t->start_turns > 0 && !rc; ++k, --t->start_turns) {
-        track_shape_update(t, pose, pb->points);
+        track_shape_update(t, pose, pb->points, 0);
         rc = track_solve(t, &turn, pose, st);
     }
+    track_shape_apply(t); /* the 6,000-vertex model once, not once a turn */
     return rc;
 }
 
@@ -589,7 +593,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     unsigned partial = FIT_DOUBT_SIDE_ON | FIT_DOUBT_OUT_OF_VIEW;
     if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) && !t->start_turns &&
         (!out->doubt || t->person_frames <= t->d.shape_frames)) {
-        track_shape_update(t, &t->pose, t->pts);
+        track_shape_update(t, &t->pose, t->pts, 1);
         t->shape_learnt++;
     }
     out->shape_steps = t->shape_steps;
