@@ -7,7 +7,8 @@
 #                  state wall_ms segment_cpu fit_cpu skin_cpu iterations shape_steps
 #                  shape_moved_mm', each block headed by the build and the load average
 #   headline_*.txt the 18 headline recordings (docs/figures/bodyfit_figures.sh's) with the base,
-#                  this build's defaults and --start-turns 2 and 4 (errors: deterministic)
+#                  this build's defaults, --start-turns 2 and 4, --init-iterations 8, 16 and 40
+#                  (errors: deterministic)
 #   instructions.txt  valgrind --tool=callgrind's count in fit_tracker_frame, the walk's frame 0
 #                  alone and frames 0-1, both builds (what no load changes; FITSTART_CALLGRIND=0
 #                  skips it, about 2 minutes a build)
@@ -68,6 +69,9 @@ done
 "$B/bodyfit/tryon-bench-fit" "$@" > "$OUT/headline_this.txt"
 "$B/bodyfit/tryon-bench-fit" --start-turns 2 "$@" > "$OUT/headline_spread2.txt"
 "$B/bodyfit/tryon-bench-fit" --start-turns 4 "$@" > "$OUT/headline_spread4.txt"
+for n in 8 16 40; do
+  "$B/bodyfit/tryon-bench-fit" --init-iterations $n "$@" > "$OUT/headline_init$n.txt"
+done
 
 if [ "${FITSTART_CALLGRIND:-1}" = 1 ] && command -v valgrind >/dev/null; then
   : > "$OUT/instructions.txt"
