@@ -108,8 +108,8 @@ void fit_tracker_options_help(FILE *f)
             "m/s of a joint's reach, its rad/s times the distance to the farthest joint below\n"
             "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5).\n"
             "A person entering: --init-iterations: Gauss-Newton iterations from the rest pose\n"
-            "(12); --start-turns: turns of shape and pose a frame over their first frames\n"
-            "(1-8; 8: all on the first frame, the default; fewer: cheaper first frames, more\n"
-            "jitter).\n",
+            "on their first frame (12; a restart after a lost part takes 40); --start-turns:\n"
+            "turns of shape and pose a frame over their first frames (1-8; 8: all on the\n"
+            "first frame, the default; fewer: cheaper first frames, more jitter).\n",
             FIT_TRACK_POINTS);
 }

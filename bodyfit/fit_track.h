@@ -107,7 +107,8 @@ typedef struct fit_tracker_desc {
     int fit_vertices;    /* 0 = 1500: the coarse mesh fitted */
     int points;          /* 0 = FIT_TRACK_POINTS: data points per frame */
     int iterations;      /* 0 = 6: Gauss-Newton iterations per tracked frame */
-    int init_iterations; /* 0 = 12: from the rest pose when someone enters */
+    int init_iterations; /* 0 = 12: from the rest pose when someone enters (a restart after
+                            a part was lost for good takes 40, tracker.c) */
     int start_turns;     /* 0 = 8: turns of shape and pose a frame when someone enters (all 8
                             on the first frame; fewer spread them over the first frames) */
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
