@@ -25,6 +25,7 @@ typedef struct bench_opts {
     int true_shape;          /* --true-shape: the recording's own shape, held (a diagnosis) */
     int true_except;         /* --true-shape-except K: that one parameter the average's; -1 */
     FILE *scores;            /* one line per scored frame, or NULL */
+    int first;               /* --first N: a line for each of a recording's first N frames */
 } bench_opts;
 
 typedef struct totals {
@@ -39,6 +40,8 @@ typedef struct totals {
     int bad, bad_flagged, doubted; /* failure: see score_frame */
     double cloth_sum;
     int cloth_n;
+    int iterations_max, shape_steps_max; /* the most work in any one frame (fit_result) */
+    double first_ms_max;                 /* the longest of the first --first frames, wall ms */
 } totals;
 
 static double clock_ms(clockid_t c)
@@ -278,6 +281,34 @@ static void cloth_frame(bench_cloth **c, int *off, const bench_opts *o, const fi
 }
 #endif
 
+/* The most work in any one frame; with --first N a line for each of the first N frames, the
+ * cost of a person entering (docs/bodyfit.md, "A person's first frames"). */
+static void frame_work(const bench_opts *o, totals *tot, const char *name, int k,
+                       const fit_result *r, double wall_ms, const double cpu_sub[3],
+                       float shape_prev[FIT_SHAPE_PARAMS], int *have_shape)
+{
+    /* How far the shape moved since the last frame: its largest parameter's change, mm (what
+     * a garment made on the first body would miss; docs/bodyfit.md). */
+    float shape[FIT_SHAPE_PARAMS], moved = 0.0f;
+    fit_shape_to_array(&r->shape, shape);
+    for (int i = 0; i < FIT_SHAPE_PARAMS && *have_shape; ++i) {
+        float d = fabsf(shape[i] - shape_prev[i]);
+        moved = d > moved ? d : moved;
+    }
+    *have_shape = r->vertices != NULL;
+    memcpy(shape_prev, shape, sizeof shape);
+    if (r->iterations > tot->iterations_max)
+        tot->iterations_max = r->iterations;
+    if (r->shape_steps > tot->shape_steps_max)
+        tot->shape_steps_max = r->shape_steps;
+    if (k >= o->first)
+        return;
+    if (wall_ms > tot->first_ms_max)
+        tot->first_ms_max = wall_ms;
+    printf("first %-24s %3d %d %7.2f %7.2f %7.2f %7.2f %4d %2d %6.1f\n", name, k, r->state, wall_ms,
+           cpu_sub[0], cpu_sub[1], cpu_sub[2], r->iterations, r->shape_steps, 1000.0f * moved);
+}
+
 static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
 {
     rec_index idx;
@@ -349,8 +380,8 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
     int nms = 0, cap = 0, entered = -1;
     rec_scores s = {0};
     s.recover = -1;
-    float prev_joints[FIT_JOINT_COUNT * 3];
-    int have_prev = 0;
+    float prev_joints[FIT_JOINT_COUNT * 3], shape_prev[FIT_SHAPE_PARAMS] = {0};
+    int have_prev = 0, have_shape = 0;
     const char *name = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
 #ifdef BENCH_FIT_CLOTH
     bench_cloth *cloth = NULL;
@@ -390,6 +421,7 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
             push(&tot->sub[q], &tot->nsub[q], &tot->cap_sub[q], sub[q]);
         push(&ms, &nms, &cap, dt);
         push(&tot->ms, &tot->nms, &tot->cap, dt);
+        frame_work(o, tot, name, k, &r, dt, sub, shape_prev, &have_shape);
         if (jl && r.vertices && write_out(out_dir, k, &r, v.camera_to_world, jl))
             fprintf(stderr, "tryon-bench-fit: %s: frame %d not written\n", out_dir, k);
         if (jl && !r.vertices)
@@ -454,7 +486,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: tryon-bench-fit [--out DIR] [--frames N] [--cloth-vertices N] [--scores FILE]\n"
-            "                       [--true-shape] [--true-shape-except K]\n");
+            "                       [--true-shape] [--true-shape-except K] [--first N]\n");
     fit_tracker_options_usage(f, 23);
     fprintf(f,
             "                       RECORDING...\n"
@@ -470,7 +502,11 @@ static void usage(FILE *f)
             "surface_mm joints_mm explained free_space residual_mm unexplained_cluster'.\n"
             "--true-shape: fit with the recording's true shape, held (the pose's share of the\n"
             "error, a diagnosis); --true-shape-except K: the same with parameter K (0..8,\n"
-            "fit_shape order) the average preset's (what that parameter's error costs).\n");
+            "fit_shape order) the average preset's (what that parameter's error costs).\n"
+            "--first N: a line for each of a recording's first N frames, 'first recording\n"
+            "frame state wall_ms segment_cpu_ms fit_cpu_ms skin_cpu_ms iterations\n"
+            "shape_steps shape_moved_mm' (what a person entering costs; the largest shape\n"
+            "parameter's change since the last frame; first_ms_max in the JSON line).\n");
     fit_tracker_options_help(f);
 }
 
@@ -489,7 +525,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
         } else if (fit_tracker_option(a, v, &o->td, &bad))
             ;
         else if (strcmp(a, "--out") && strcmp(a, "--frames") && strcmp(a, "--cloth-vertices") &&
-                 strcmp(a, "--scores") && strcmp(a, "--true-shape-except")) {
+                 strcmp(a, "--scores") && strcmp(a, "--true-shape-except") &&
+                 strcmp(a, "--first")) {
             fprintf(stderr, "tryon-bench-fit: unknown option %s\n", a);
             usage(stderr);
             return -1;
@@ -503,6 +540,8 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             bad = fit_parse_int(v, 0, 100000, &o->cloth_vertices) != 0;
         else if (!strcmp(a, "--scores"))
             o->scores_path = v;
+        else if (!strcmp(a, "--first"))
+            bad = fit_parse_int(v, 0, 1000000, &o->first) != 0;
         else {
             bad = fit_parse_int(v, 0, FIT_SHAPE_PARAMS - 1, &o->true_except) != 0;
             o->true_shape = 1;
@@ -551,6 +590,7 @@ int main(int argc, char **argv)
            "\"points\":%d,\"fit_verts\":%d,\"frames\":%d,\"recordings_failed\":%d,"
            "\"doubted_frames\":%d,\"bad_frames\":%d,\"bad_tracking_frames\":%d,"
            "\"cloth_vs_truth_mm\":%.2f,\"cloth_vertices\":%d,"
+           "\"frame_iterations_max\":%d,\"frame_shape_steps_max\":%d,\"first_ms_max\":%.3f,"
            "\"backend\":\"c\",\"device\":\"cpu-1-core\"}\n",
            quantile(tot.ms, tot.nms, 0.5), quantile(tot.ms, tot.nms, 0.95),
            quantile(tot.cpu, tot.ncpu, 0.5), quantile(tot.cpu, tot.ncpu, 0.95),
@@ -566,7 +606,8 @@ int main(int argc, char **argv)
            d.iterations ? d.iterations : 6, d.points ? d.points : FIT_TRACK_POINTS,
            d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
            scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
-           tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices);
+           tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices,
+           tot.iterations_max, tot.shape_steps_max, o.first ? tot.first_ms_max : -1.0);
     if (o.scores && fclose(o.scores)) {
         fprintf(stderr, "tryon-bench-fit: --scores %s: write failed\n", o.scores_path);
         failed++;

@@ -45,9 +45,10 @@ static int parse_smooth(const char *v, float *hz)
 int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *bad)
 {
     static const char *const names[] = {
-        "--points",           "--iterations",      "--fit-vertices",   "--out-vertices",
-        "--vertices",         "--temporal",        "--predict",        "--smooth",
-        "--smooth-beta-root", "--smooth-beta-rot", "--smooth-speed-hz"};
+        "--points",           "--iterations",      "--fit-vertices",    "--out-vertices",
+        "--vertices",         "--temporal",        "--predict",         "--smooth",
+        "--smooth-beta-root", "--smooth-beta-rot", "--smooth-speed-hz", "--init-iterations",
+        "--start-turns"};
     int known = 0;
     for (size_t k = 0; k < sizeof names / sizeof names[0] && !known; ++k)
         known = !strcmp(a, names[k]);
@@ -59,6 +60,10 @@ int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *b
         *bad = fit_parse_int(v, 20, 100000, &d->points) != 0;
     else if (!strcmp(a, "--iterations"))
         *bad = fit_parse_int(v, 1, 200, &d->iterations) != 0;
+    else if (!strcmp(a, "--init-iterations"))
+        *bad = fit_parse_int(v, 1, 200, &d->init_iterations) != 0;
+    else if (!strcmp(a, "--start-turns"))
+        *bad = fit_parse_int(v, 1, 8, &d->start_turns) != 0;
     else if (!strcmp(a, "--fit-vertices"))
         *bad = fit_parse_int(v, 1000, 60000, &d->fit_vertices) != 0;
     else if (!strcmp(a, "--out-vertices") || !strcmp(a, "--vertices"))
@@ -85,8 +90,9 @@ void fit_tracker_options_usage(FILE *f, int indent)
     fprintf(f,
             "%*s[--points N] [--iterations N] [--fit-vertices N] [--out-vertices N]\n"
             "%*s[--temporal W] [--predict G] [--smooth on|off|HZ] [--smooth-beta-root B]\n"
-            "%*s[--smooth-beta-rot B] [--smooth-speed-hz HZ]\n",
-            indent, "", indent, "", indent, "");
+            "%*s[--smooth-beta-rot B] [--smooth-speed-hz HZ] [--init-iterations N]\n"
+            "%*s[--start-turns N]\n",
+            indent, "", indent, "", indent, "", indent, "");
 }
 
 void fit_tracker_options_help(FILE *f)
@@ -100,6 +106,10 @@ void fit_tracker_options_help(FILE *f)
             "or its cut-off at rest in Hz (0.5; 0: off); --smooth-beta-root: its rise per m/s\n"
             "of the root, the root's and every joint's (16); --smooth-beta-rot: its rise per\n"
             "m/s of a joint's reach, its rad/s times the distance to the farthest joint below\n"
-            "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5).\n",
+            "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5).\n"
+            "A person entering: --init-iterations: Gauss-Newton iterations from the rest pose\n"
+            "on their first frame (12; a restart after a lost part takes 40); --start-turns:\n"
+            "turns of shape and pose a frame over their first frames (1-8; 8: all on the\n"
+            "first frame, the default; fewer: cheaper first frames, more jitter).\n",
             FIT_TRACK_POINTS);
 }

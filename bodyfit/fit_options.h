@@ -14,7 +14,7 @@ int fit_parse_float(const char *s, float lo, float hi, float *out);
 
 /* 1 when a names a tracker option (--points, --iterations, --fit-vertices, --out-vertices or
  * --vertices, --temporal, --predict, --smooth, --smooth-beta-root, --smooth-beta-rot,
- * --smooth-speed-hz): its value
+ * --smooth-speed-hz, --init-iterations, --start-turns): its value
  * v parsed into d, *bad set when v is missing or out of range. 0 when a is none of them. */
 int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *bad);
 

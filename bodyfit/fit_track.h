@@ -107,7 +107,10 @@ typedef struct fit_tracker_desc {
     int fit_vertices;    /* 0 = 1500: the coarse mesh fitted */
     int points;          /* 0 = FIT_TRACK_POINTS: data points per frame */
     int iterations;      /* 0 = 6: Gauss-Newton iterations per tracked frame */
-    int init_iterations; /* 0 = 40: from the rest pose when someone enters */
+    int init_iterations; /* 0 = 12: from the rest pose when someone enters (a restart after
+                            a part was lost for good takes 40, tracker.c) */
+    int start_turns;     /* 0 = 8: turns of shape and pose a frame when someone enters (all 8
+                            on the first frame; fewer spread them over the first frames) */
     int shape_frames;    /* 0 = 10: frames over which the shape is estimated */
     float temporal;      /* 0 = the default (2e-4): weight of the temporal prior */
     float predict;       /* 0 = the default (1): share of the last motion carried on; < 0 none */
@@ -140,6 +143,10 @@ typedef struct fit_result {
     float explained, free_space;
     int unexplained_cluster; /* the most unexplained points lying together (a lost limb) */
     unsigned doubt;
+    /* The frame's work: Gauss-Newton iterations of the pose (every solve this frame, the
+     * measuring pass after each not counted) and shape steps (docs/bodyfit.md, "A person's
+     * first frames"). */
+    int iterations, shape_steps;
     double ms_segment, ms_fit, ms_skin; /* wall clock */
     /* The same three in this thread's CPU time (what a loaded machine does not inflate). */
     double cpu_ms_segment, cpu_ms_fit, cpu_ms_skin;

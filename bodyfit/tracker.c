@@ -38,6 +38,25 @@ static double track_cpu_ms(void)
 /* The pelvis joint stands this far behind the visible front surface (half a body depth). */
 #define TRACK_BODY_HALF_DEPTH_M 0.10f
 
+/* A person's first frames: the shape and the pose fitted in turns (a shape step at half gain,
+ * then a pose iteration), so that the shape moves the published joints over the first frames
+ * rather than over the next ones (jitter standing still). */
+/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
+ * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
+ * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these). */
+#define TRACK_SHAPE_FIRST_ROUNDS 8
+/* A person's first frame cost 88 iterations and 40 ms when each turn had 6 pose iterations and
+ * the fit from the rest pose 40: the next frames waited behind it. One iteration a turn, and 12
+ * from the rest pose, leave the errors as they were (docs/bodyfit.md, "A person's first
+ * frames"); --start-turns spreads the turns over the first frames (cheaper frames, more
+ * jitter: the shape then moves the published joints after the first frame). */
+#define TRACK_START_TURN_ITERATIONS 1
+#define TRACK_INIT_ITERATIONS       12
+/* A restart after a part was lost for good (below) starts from a rest pose far from the body's
+ * (arms crossed: 12 iterations left the forearms in the chest 12 frames longer,
+ * test_fit_doubt); it is rare, and keeps the 40 a person's first frame had. */
+#define TRACK_RESTART_ITERATIONS 40
+
 /* Doubting a fit (docs/bodyfit.md, "Failure"): measured causes, each against what a sound fit of
  * the same person shows. A doubtful fit is still published, with state INIT, and the shape does
  * not learn from it; TRACKING comes back after TRACK_SOUND_FRAMES sound frames in a row. */
@@ -90,6 +109,7 @@ struct fit_tracker {
     float *shape_scratch; /* fit_shape_step's posed coarse meshes */
     int have_pose, have_last, person_frames, topology_id;
     int shape_learnt; /* frames the shape has learnt from at the fast gain */
+    int start_turns;  /* a person's first turns of shape and pose still to do */
     double height_sum;
     int height_n;
     fit_smoother smooth;  /* the published pose only */
@@ -98,6 +118,7 @@ struct fit_tracker {
     int failing_frames;   /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
     int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
+    int iterations, shape_steps; /* this frame's work (fit_result) */
 };
 
 /* Builds the coarse and the published model of a shape; keeps the old ones on failure. */
@@ -158,7 +179,8 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->fit_vertices = x->fit_vertices ? x->fit_vertices : 1500;
     x->points = x->points > 0 ? x->points : FIT_TRACK_POINTS;
     x->iterations = x->iterations > 0 ? x->iterations : 6;
-    x->init_iterations = x->init_iterations > 0 ? x->init_iterations : 40;
+    x->init_iterations = x->init_iterations > 0 ? x->init_iterations : TRACK_INIT_ITERATIONS;
+    x->start_turns = x->start_turns > 0 ? x->start_turns : TRACK_SHAPE_FIRST_ROUNDS;
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
@@ -272,6 +294,14 @@ static int track_subsample(fit_tracker *t, const fit_segment *sg)
  * of CPU a frame when every frame took one). */
 #define TRACK_SHAPE_EVERY 8
 
+/* fit_solve, its iterations counted in the frame's work. */
+static int track_solve(fit_tracker *t, const fit_problem *pb, fit_pose *pose, fit_stats *st)
+{
+    int rc = fit_solve(t->solver, pb, pose, st);
+    t->iterations += st->iterations;
+    return rc;
+}
+
 static void track_shape_apply(fit_tracker *t)
 {
     fit_shape_base_apply(&t->base_coarse, t->coarse, &t->q);
@@ -316,7 +346,9 @@ static void track_height_update(fit_tracker *t, const fit_segment *sg, const fit
     track_shape_apply(t);
 }
 
-static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points)
+/* One shape step; the coarse model is left with the new shape (fit_shape_step), and with
+ * publish the published model and shape too (a turn leaves those to the last turn). */
+static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *points, int publish)
 {
     int init = t->shape_learnt < t->d.shape_frames;
     if (!init && (t->shape_learnt - t->d.shape_frames) % TRACK_SHAPE_EVERY)
@@ -328,27 +360,24 @@ static void track_shape_update(fit_tracker *t, fit_pose *pose, const float *poin
     float gain =
         !init ? TRACK_SHAPE_EVERY * TRACK_SHAPE_GAIN_AFTER
               : (t->shape_learnt ? 1.0f / (float)(t->shape_learnt + 2) : TRACK_SHAPE_GAIN_INIT);
+    t->shape_steps++;
     if (fit_shape_step(&t->base_coarse, t->coarse, t->solver, pose, points, gain, t->shape_scratch,
-                       &t->q) == 0)
+                       &t->q) == 0 &&
+        publish)
         track_shape_apply(t);
 }
 
-/* A person's first frame: the shape and the pose fitted in turns, so that the shape moves the
- * published joints on this frame rather than over the next ones (jitter standing still). */
-/* 2: still jitter 2.00 / 2.12 / 2.34 mm; 4: 2.02 / 2.02 / 1.87 (400 points); with 800 points,
- * 4 and half steps after: 1.19 / 1.54 / 1.47; 8 and the running mean after
- * (track_shape_update): 1.15 / 1.27 / 1.10 (the filter's speed at 0.7 Hz for all of these).
- * Costs the first frame of a person about 8 frames' fit. */
-#define TRACK_SHAPE_FIRST_ROUNDS 8
-static int track_shape_first(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st)
+static int track_shape_turns(fit_tracker *t, const fit_problem *pb, fit_pose *pose, fit_stats *st)
 {
+    fit_problem turn = *pb;
+    turn.iterations = TRACK_START_TURN_ITERATIONS;
+    turn.max_match_m = TRACK_GATE_TRACK_M;
     int rc = 0;
-    pb->iterations = t->d.iterations;
-    pb->max_match_m = TRACK_GATE_TRACK_M;
-    for (int k = 0; k < TRACK_SHAPE_FIRST_ROUNDS && !rc; ++k) {
-        track_shape_update(t, pose, pb->points);
-        rc = fit_solve(t->solver, pb, pose, st);
+    for (int k = 0; k < t->d.start_turns && t->start_turns > 0 && !rc; ++k, --t->start_turns) {
+        track_shape_update(t, pose, pb->points, 0);
+        rc = track_solve(t, &turn, pose, st);
     }
+    track_shape_apply(t); /* the 6,000-vertex model once, not once a turn */
     return rc;
 }
 
@@ -366,7 +395,7 @@ static int track_find_limb(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_
     fit_pose alt = *pose;
     fit_stats st2;
     fit_limb_reaim(t->coarse, &alt, at);
-    if (fit_solve(t->solver, pb, &alt, &st2)) {
+    if (track_solve(t, pb, &alt, &st2)) {
         *fitted = 0;
         return cluster;
     }
@@ -457,6 +486,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
     t->shape_learnt = 0;
+    t->start_turns = 0;
     t->rms_base = 0.0f;
     t->sound_frames = TRACK_SOUND_FRAMES; /* a new person is trusted until doubted */
     t->failing_frames = 0;
@@ -475,6 +505,7 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     memset(out, 0, sizeof *out);
     out->shape = t->shape;
     out->topology_id = t->topology_id;
+    t->iterations = t->shape_steps = 0;
     double t0 = tryon_now_ms(), c0 = track_cpu_ms();
     fit_segment sg;
     fit_frame_error e = fit_segmenter_frame(t->seg, v, &sg, out->message, sizeof out->message);
@@ -512,7 +543,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
                       .roi = {roi[0], roi[1], roi[2], roi[3]},
                       .view = v,
                       .prev = fresh ? NULL : &t->pose,
-                      .iterations = fresh ? t->d.init_iterations : t->d.iterations,
+                      .iterations = !fresh             ? t->d.iterations
+                                    : t->person_frames ? TRACK_RESTART_ITERATIONS
+                                                       : t->d.init_iterations,
                       .max_match_m = fresh ? TRACK_GATE_INIT_M : TRACK_GATE_TRACK_M,
                       .temporal = fresh ? 0.0f : t->d.temporal,
                       .explained_m = TRACK_EXPLAINED_RMSES * 1e-3f * t->rms_base * z2};
@@ -524,14 +557,18 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     fit_pose pose = t->prev;
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
-    int rc = fit_solve(t->solver, &pb, &pose, &st);
-    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && !sg.touches_side &&
-        track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS)
-        rc = track_shape_first(t, &pb, &pose, &st);
+    int rc = track_solve(t, &pb, &pose, &st);
+    int whole = !sg.touches_side && track_facing(&pose, &sg, v) >= TRACK_DOUBT_FACING_COS;
+    if (!rc && fresh && !t->person_frames && !t->d.fixed_shape && whole)
+        t->start_turns = TRACK_SHAPE_FIRST_ROUNDS;
+    if (!rc && t->start_turns > 0 && whole)
+        rc = track_shape_turns(t, &pb, &pose, &st);
     int matches_fitted = 1; /* the solver's matches are those of the pose kept */
     out->unexplained_cluster = rc ? 0 : track_find_limb(t, &pb, &pose, &st, fresh, &matches_fitted);
     out->ms_fit = tryon_now_ms() - t1;
     out->cpu_ms_fit = track_cpu_ms() - c1;
+    out->iterations = t->iterations;
+    out->shape_steps = t->shape_steps;
     out->points_used = pb.count;
     out->residual_mm = st.rms_mm;
     out->explained = pb.count ? (float)st.explained / (float)pb.count : 0.0f;
@@ -554,11 +591,12 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
      * 40-44 mm off once facing the camera); after them a doubtful fit does not teach the shape
      * (crossed arms would fatten the torso: arms_cross s0 joints 52 -> 36 mm). */
     unsigned partial = FIT_DOUBT_SIDE_ON | FIT_DOUBT_OUT_OF_VIEW;
-    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) &&
+    if (!t->d.fixed_shape && matches_fitted && !(out->doubt & partial) && !t->start_turns &&
         (!out->doubt || t->person_frames <= t->d.shape_frames)) {
-        track_shape_update(t, &t->pose, t->pts);
+        track_shape_update(t, &t->pose, t->pts, 1);
         t->shape_learnt++;
     }
+    out->shape_steps = t->shape_steps;
     double t2 = tryon_now_ms(), c2 = track_cpu_ms();
     t->published = t->pose;
     if (fresh)

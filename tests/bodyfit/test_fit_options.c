@@ -36,6 +36,10 @@ static void test_options_parsed(void **state)
     assert_float_equal(d.smooth_beta_root, 24.0f, 0.0f);
     assert_int_equal(fit_tracker_option("--smooth-speed-hz", "0.7", &d, &bad), 1);
     assert_float_equal(d.smooth_speed_hz, 0.7f, 0.0f);
+    assert_int_equal(fit_tracker_option("--init-iterations", "20", &d, &bad), 1);
+    assert_int_equal(d.init_iterations, 20);
+    assert_int_equal(fit_tracker_option("--start-turns", "2", &d, &bad), 1);
+    assert_int_equal(d.start_turns, 2);
     assert_int_equal(bad, 0);
 }
 
@@ -72,7 +76,10 @@ static void test_bad_values_and_other_options(void **state)
                                   {"--smooth", "-1"},
                                   {"--smooth-beta-rot", "0"},
                                   {"--smooth-beta-root", "nan"},
-                                  {"--smooth-speed-hz", "0"}};
+                                  {"--smooth-speed-hz", "0"},
+                                  {"--init-iterations", "0"},
+                                  {"--start-turns", "9"},
+                                  {"--start-turns", "0"}};
     for (size_t k = 0; k < sizeof bad_pairs / sizeof bad_pairs[0]; ++k) {
         int bad = 0;
         assert_int_equal(fit_tracker_option(bad_pairs[k][0], bad_pairs[k][1], &d, &bad), 1);
