@@ -144,12 +144,15 @@ static int choose_target(mirror_app *a, int *w, int *h)
 static int warm_up(mirror_app *a)
 {
     char err[512];
-    int w, h;
-    choose_target(a, &w, &h);
+    int w, h, direct = choose_target(a, &w, &h);
     int64_t t0 = bus_now_mono_us();
     if (mirror_warm_up(a->renderer, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: warm-up draw: %s\n", err);
         return -1;
+    }
+    if (a->window && !direct) { /* the scaled copy's shader too; not shown (no swap) */
+        mirror_present(a->renderer, w, h);
+        glFinish();
     }
     fprintf(stderr, "tryon-mirror: warmed up: a first draw of %.1f ms (shaders compiled)\n",
             (double)(bus_now_mono_us() - t0) / 1000.0);

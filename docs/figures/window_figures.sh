@@ -143,14 +143,14 @@ if [[ " $parts " == *" 3 "* ]]; then
             rm -rf "$out/rec"
             x0=0
             [ -n "$xpid" ] && x0=$(cpu_ms "$xpid")
-            env TRYON_BIN_DIR="$bindir" $(egl_env "$v") "$(bin tryon)" run \
+            env $(egl_env "$v") TRYON_BIN_DIR="$bindir" "$(bin tryon)" run \
                 "$rec" --body bodyfit --backend c "${args[@]}" --record "$out/rec" \
                 >"$out/run.txt" 2>&1 || true
             x1=0
             [ -n "$xpid" ] && x1=$(cpu_ms "$xpid")
             stop_x
             first=$("$(bin tryon)" path "$out/rec/session.lcmlog" --each 2>/dev/null |
-                awk '$NF == "mirror" { printf "%s ", $(NF - 2); if (++n == 3) exit }')
+                awk '$NF == "mirror" && n++ < 3 { printf "%s ", $(NF - 2) }' || true)
             awk -v n="$v, load $load, Xvfb CPU $((x1 - x0)) ms" -v f="$first" '
                 $1 ~ /^(sim|mirror)$/ && NF == 10 { r = r sprintf(" %s %s dropped, p95 %s ms;", $1, $3, $9) }
                 /warm-up/ { w = 1 }
