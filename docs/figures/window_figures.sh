@@ -13,12 +13,12 @@
 # 1. A recorded session (mirrorcpu_figures.sh's, recorded once at 10 fps) played at 30 fps by
 #    lcm-logplayer into tryon-mirror alone, WINDOW_FIG_RUNS times (3): the mirror's and Xvfb's
 #    CPU over the replay, frames drawn, TIMING mirror/render, mirror/output (the swap in a
-#    window) and mirror/cpu p50 (tryon-profile).
+#    window) and mirror/cpu p50 (tryon-profile), the swap's p95 (the TIMING logged).
 # 2. The window idle for 5 s (no message): the event loop's CPU, the mirror's and Xvfb's.
 # 3. The pipeline (`tryon run` on the walk, all four stages real, --record), WINDOW_FIG_RUNS times:
 #    per variant the load average before, sim and mirror frames dropped and latency p95 over the
 #    session and after the summary's warm-up (its first 15 frames), Xvfb's CPU, and the mirror's
-#    work on its first three frames with a garment (`tryon path --each`).
+#    work on its first three frames with a garment (`tryon path --each`), the swap's p50 and p95.
 # Environment: WINDOW_FIG_RUNS (3), WINDOW_FIG_PARTS ("1 2 3").
 set -euo pipefail
 build=$(realpath "${1:?usage: window_figures.sh BUILD_DIR [BEFORE_DIR]}")
@@ -57,6 +57,36 @@ mirror_of() { [ "$1" = before ] && echo "$before/tryon-mirror" || bin tryon-mirr
 # SDL's hint forced to EGL for egl; unset otherwise (an older build sets it itself)
 egl_env() { [ "$1" = egl ] && echo SDL_VIDEO_X11_FORCE_EGL=1 || echo -u SDL_VIDEO_X11_FORCE_EGL; }
 
+# The mirror's TIMING in an LCM log (lcm-logger's format; timing_t after its 8-byte
+# fingerprint): the swap's time (substage "output") p50 and p95 over the frames, ms.
+swap_p95() {
+    python3 - "$1" <<'EOF'
+import struct, sys
+data, i, out = open(sys.argv[1], 'rb').read(), 0, []
+while i + 28 <= len(data):
+    _, _, _, clen, dlen = struct.unpack('>IqqII', data[i:i + 28])
+    ch, d = data[i + 28:i + 28 + clen], data[i + 28 + clen:i + 28 + clen + dlen]
+    i += 28 + clen + dlen
+    if not ch.endswith(b'TIMING'):
+        continue
+    n, = struct.unpack('>i', d[8:12])
+    if d[12:12 + n - 1] != b'mirror':
+        continue
+    p = 12 + n + 36
+    ns, = struct.unpack('>i', d[p:p + 4])
+    p, names = p + 4, []
+    for _ in range(ns):
+        n, = struct.unpack('>i', d[p:p + 4])
+        names.append(d[p + 4:p + 3 + n])
+        p += 4 + n
+    vals = dict(zip(names, struct.unpack('>%df' % ns, d[p:p + 4 * ns])))
+    out.append(vals.get(b'output', 0.0))
+out.sort()
+q = lambda f: out[int(f * (len(out) - 1))] if out else float('nan')
+print('swap (output) p50 %.2f p95 %.2f ms over %d frames' % (q(.5), q(.95), len(out)))
+EOF
+}
+
 rec="$build/recordings/figures_walk_150_6000"
 if [ ! -f "$rec/INDEX.txt" ]; then
     "$(bin tryon-synth)" --out "$rec" --motion walk --frames 150 --vertices 6000 >/dev/null
@@ -85,6 +115,10 @@ if [[ " $parts " == *" 1 "* ]]; then
             fi
             "$(bin tryon-profile)" --live 60 >"$out/profile.txt" 2>&1 &
             prof=$!
+            rm -f "$out/timing.lcmlog"
+            lcm-logger --lcm-url="$TRYON_LCM_URL" -c "${prefix}TIMING" "$out/timing.lcmlog" \
+                >/dev/null 2>&1 &
+            logger=$!
             env $(egl_env "$v") "$(mirror_of "$v")" "${args[@]}" \
                 >"$out/mirror.txt" 2>&1 &
             m=$!
@@ -98,13 +132,14 @@ if [[ " $parts " == *" 1 "* ]]; then
             [ -n "$xpid" ] && x1=$(cpu_ms "$xpid")
             kill -TERM "$m" 2>/dev/null || true
             wait "$m" || true
-            kill -INT "$prof" 2>/dev/null || true
-            wait "$prof" || true
+            kill -INT "$prof" "$logger" 2>/dev/null || true
+            wait "$prof" "$logger" || true
             stop_x
             drawn=$(grep -o '[0-9]* frames drawn' "$out/mirror.txt" | cut -d' ' -f1)
             echo "$v, load $load: mirror CPU $((m1 - m0)) ms, Xvfb CPU $((x1 - x0)) ms," \
                 "$drawn frames drawn; p50 $(grep -E 'mirror/(render|output|cpu)' "$out/profile.txt" |
                     awk '{ printf "%s %s ms  ", $1, $3 }')"
+            echo "   $(swap_p95 "$out/timing.lcmlog")"
         done
     done
     unset TRYON_LCM_URL TRYON_CHANNEL_PREFIX
@@ -157,6 +192,7 @@ if [[ " $parts " == *" 3 "* ]]; then
                 w && $1 ~ /^(sim|mirror)$/ && NF == 6 { s = s sprintf(" %s %s, %s ms;", $1, $3, $5) }
                 END { print n ":" r " after warm-up:" s " the mirror'"'"'s first frames " f "ms" }' \
                 "$out/run.txt"
+            echo "   $(swap_p95 "$out/rec/session.lcmlog")"
         done
     done
 fi
