@@ -133,8 +133,9 @@ const char *mirror_window_presents(mirror_window *w)
     if (f)
         fclose(f);
     if (shared)
-        return egl ? "through EGL, the picture in memory shared with the display server"
+        return egl ? "through EGL, the picture in memory shared with the X server"
                    : "through GLX, the picture in memory shared with the X server";
-    return egl ? "through EGL, each picture copied over the display connection"
-               : "through GLX, each picture copied over the X connection";
+    /* a GPU's driver (DRI3) shares buffers otherwise; llvmpipe on X11 then sends each picture */
+    return egl ? "through EGL, no System V memory shared (llvmpipe on X11: each picture sent)"
+               : "through GLX, no System V memory shared (llvmpipe on X11: each picture sent)";
 }
