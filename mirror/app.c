@@ -140,15 +140,16 @@ static int choose_target(mirror_app *a, int *w, int *h)
     return direct;
 }
 
-/* Before the bus is listened to: the first real frame then costs what every frame costs. */
-static int warm_up(mirror_app *a)
+/* Before the bus is listened to: the first real frame then costs what every frame costs. A
+ * failure costs only that: said, and the mirror goes on. */
+static void warm_up(mirror_app *a)
 {
     char err[512];
     int w, h, direct = choose_target(a, &w, &h);
     int64_t t0 = bus_now_mono_us();
     if (mirror_warm_up(a->renderer, err, sizeof err) < 0) {
-        fprintf(stderr, "tryon-mirror: warm-up draw: %s\n", err);
-        return -1;
+        fprintf(stderr, "tryon-mirror: warm-up draw: %s; the first frame compiles instead\n", err);
+        return;
     }
     if (a->window && !direct) { /* the scaled copy's shader too; not shown (no swap) */
         mirror_present(a->renderer, w, h);
@@ -156,7 +157,6 @@ static int warm_up(mirror_app *a)
     }
     fprintf(stderr, "tryon-mirror: warmed up: a first draw of %.1f ms (shaders compiled)\n",
             (double)(bus_now_mono_us() - t0) / 1000.0);
-    return 0;
 }
 
 static int open_output(mirror_app *a)
@@ -220,8 +220,9 @@ int mirror_app_open(mirror_app *a)
         }
     }
     bus_channel(BUS_CHANNEL_CONTROL, a->ch_control, sizeof a->ch_control);
-    if (open_output(a) < 0 || warm_up(a) < 0)
+    if (open_output(a) < 0)
         return -1;
+    warm_up(a);
     fprintf(stderr, "tryon-mirror: listening for %s and %s on %s\n", ch[0], ch[1],
             bus_default_url());
     return 0;

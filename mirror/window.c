@@ -17,7 +17,7 @@ mirror_window *mirror_window_create(int width, int height, int kiosk, char *err,
 {
     /* On X11, SDL's own choice: GLX, where Mesa's software renderer keeps the picture in memory
      * shared with the X server (MIT-SHM). Through EGL it sends every picture over the socket
-     * (1.2 MB at 640x480), which costs the X server (Xvfb) 4 times the CPU (docs/mirror.md,
+     * (1.2 MB at 640x480), which costs the X server (Xvfb) about 4 times the CPU (docs/mirror.md,
      * "The window under Xvfb"). SDL falls back to EGL where GLX has no OpenGL ES context. */
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
         snprintf(err, n, "no display (%s): run with --headless --out DIR, or set DISPLAY",
