@@ -20,7 +20,7 @@ packages=(build-essential cmake pkg-config git iproute2 procps
     clang-format gnuplot-nox libbullet-dev
     clang-14 libclang-rt-14-dev libsodium-dev
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libsdl2-dev libpng-dev
-    xvfb xauth ffmpeg libcjson-dev
+    xvfb xauth ffmpeg libcjson-dev libglx-mesa0 python3
     assimp-testmodels libopencv-dev time valgrind)
 
 as_root() {

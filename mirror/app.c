@@ -118,6 +118,47 @@ static void on_timing(const char *ch, const void *m, void *user)
     s->work_ms += 0.1 * ((double)(t->utime_finished - t->utime_started) / 1000.0 - s->work_ms);
 }
 
+/* Where the next frame is drawn; w, h: the window's size (the picture's headless). */
+static int choose_target(mirror_app *a, int *w, int *h)
+{
+    int direct = 0;
+    *w = a->width;
+    *h = a->height;
+    if (a->window) { /* the picture's size: drawn straight into the back buffer, no copy */
+        mirror_window_size(a->window, w, h);
+        direct = *w == a->width && *h == a->height;
+    }
+    mirror_renderer_draw_to_window(a->renderer, direct);
+    if (a->window && a->window_path != 1 + direct) { /* said once, and on each change */
+        a->window_path = 1 + direct;
+        if (direct)
+            fprintf(stderr, "tryon-mirror: drawing straight into the window's back buffer\n");
+        else
+            fprintf(stderr, "tryon-mirror: the window is %dx%d: the picture is scaled into it\n",
+                    *w, *h);
+    }
+    return direct;
+}
+
+/* Before the bus is listened to: the first real frame then costs what every frame costs. A
+ * failure costs only that: said, and the mirror goes on. */
+static void warm_up(mirror_app *a)
+{
+    char err[512];
+    int w, h, direct = choose_target(a, &w, &h);
+    int64_t t0 = bus_now_mono_us();
+    if (mirror_warm_up(a->renderer, err, sizeof err) < 0) {
+        fprintf(stderr, "tryon-mirror: warm-up draw: %s; the first frame compiles instead\n", err);
+        return;
+    }
+    if (a->window && !direct) { /* the scaled copy's shader too; not shown (no swap) */
+        mirror_present(a->renderer, w, h);
+        glFinish();
+    }
+    fprintf(stderr, "tryon-mirror: warmed up: a first draw of %.1f ms (shaders compiled)\n",
+            (double)(bus_now_mono_us() - t0) / 1000.0);
+}
+
 static int open_output(mirror_app *a)
 {
     char err[512];
@@ -181,6 +222,7 @@ int mirror_app_open(mirror_app *a)
     bus_channel(BUS_CHANNEL_CONTROL, a->ch_control, sizeof a->ch_control);
     if (open_output(a) < 0)
         return -1;
+    warm_up(a);
     fprintf(stderr, "tryon-mirror: listening for %s and %s on %s\n", ch[0], ch[1],
             bus_default_url());
     return 0;
@@ -265,20 +307,7 @@ int mirror_app_frame(mirror_app *a)
                      .fit_map = a->fit_map,
                      .overlay_text = a->overlay ? text : NULL};
     char err[512];
-    int w = a->width, h = a->height, direct = 0;
-    if (a->window) { /* the picture's size: drawn straight into the back buffer, no copy */
-        mirror_window_size(a->window, &w, &h);
-        direct = w == a->width && h == a->height;
-    }
-    mirror_renderer_draw_to_window(a->renderer, direct);
-    if (a->window && a->window_path != 1 + direct) { /* said once, and on each change */
-        a->window_path = 1 + direct;
-        if (direct)
-            fprintf(stderr, "tryon-mirror: drawing straight into the window's back buffer\n");
-        else
-            fprintf(stderr, "tryon-mirror: the window is %dx%d: the picture is scaled into it\n", w,
-                    h);
-    }
+    int w, h, direct = choose_target(a, &w, &h);
     int64_t t0 = bus_now_mono_us(), cpu0 = bus_now_cpu_us(); /* llvmpipe's threads too */
     if (mirror_render(a->renderer, &v, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: frame %d: %s; skipped\n", a->frames_drawn, err);
@@ -293,6 +322,9 @@ int mirror_app_frame(mirror_app *a)
             write_outputs(a);
         mirror_window_swap(a->window);
         glFinish(); /* on screen before the frame is called done */
+        if (!a->presents_said++)
+            fprintf(stderr, "tryon-mirror: the window presents %s\n",
+                    mirror_window_presents(a->window));
     } else {
         write_outputs(a);
     }

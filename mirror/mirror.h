@@ -69,6 +69,10 @@ void mirror_renderer_destroy(mirror_renderer *r);
 void mirror_renderer_draw_to_window(mirror_renderer *r, int window);
 /* Draws into the target above. Returns 0, or -MIRROR_ERR_x with err filled. */
 int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t err_size);
+/* Draws a scene holding everything a frame may draw (person, arm, fit-map garment, body,
+ * overlay) into the target above, so that llvmpipe compiles its shaders before the first real
+ * frame (mirror/warmup.c). Returns 0 or -MIRROR_ERR_x with err filled. */
+int mirror_warm_up(mirror_renderer *r, char *err, size_t err_size);
 /* The last picture (from where it was drawn), rows top to bottom, RGB: width * height * 3. */
 int mirror_read_rgb(mirror_renderer *r, uint8_t *rgb);
 /* Copies the picture to framebuffer 0 (a window's back buffer). */
@@ -107,6 +111,9 @@ void mirror_window_destroy(mirror_window *w);
 mirror_key mirror_window_poll(mirror_window *w); /* one pending key, or NONE */
 void mirror_window_size(mirror_window *w, int *width, int *height);
 void mirror_window_swap(mirror_window *w);
+/* How the window's pictures reach the display, in words ("through GLX, the picture in memory
+ * shared with the X server"); meaningful after the first swap. */
+const char *mirror_window_presents(mirror_window *w);
 
 /* Files. */
 int mirror_png_write(const char *path, const uint8_t *rgb, int width, int height, char *err,

@@ -54,7 +54,8 @@ typedef struct mirror_app {
     mirror_video *video;
     uint8_t *rgb;
     int frames_drawn, pngs_written;
-    int window_path; /* said on stderr: 0 not yet, 1 scaled from the renderer's own, 2 direct */
+    int window_path;   /* said on stderr: 0 not yet, 1 scaled from the renderer's own, 2 direct */
+    int presents_said; /* how the window presents, said after the first swap */
     int64_t video_frames, video_t0; /* frames piped; the first one's utime_capture */
 } mirror_app;
 

@@ -1,8 +1,10 @@
-/* The kiosk window: SDL2 with an OpenGL ES 3 context (through EGL, as headless). The renderer
- * draws straight into the back buffer when the window is the picture's size; otherwise into its
- * framebuffer object, which mirror_present scales into the window. */
+/* The kiosk window: SDL2 with an OpenGL ES 3 context. The renderer draws straight into the back
+ * buffer when the window is the picture's size; otherwise into its framebuffer object, which
+ * mirror_present scales into the window. */
+#include <EGL/egl.h>
 #include <SDL2/SDL.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "mirror.h"
 
@@ -13,7 +15,10 @@ struct mirror_window {
 
 mirror_window *mirror_window_create(int width, int height, int kiosk, char *err, size_t n)
 {
-    SDL_SetHint(SDL_HINT_VIDEO_X11_FORCE_EGL, "1");
+    /* On X11, SDL's own choice: GLX, where Mesa's software renderer keeps the picture in memory
+     * shared with the X server (MIT-SHM). Through EGL it sends every picture over the socket
+     * (1.2 MB at 640x480), which costs the X server (Xvfb) about 4 times the CPU (docs/mirror.md,
+     * "The window under Xvfb"). SDL falls back to EGL where GLX has no OpenGL ES context. */
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
         snprintf(err, n, "no display (%s): run with --headless --out DIR, or set DISPLAY",
                  SDL_GetError());
@@ -112,4 +117,25 @@ void mirror_window_size(mirror_window *w, int *width, int *height)
 void mirror_window_swap(mirror_window *w)
 {
     SDL_GL_SwapWindow(w->win);
+}
+
+const char *mirror_window_presents(mirror_window *w)
+{
+    (void)w;
+    /* SDL on Wayland, or forced to EGL (SDL_VIDEO_X11_FORCE_EGL=1), has an EGL context */
+    int egl = eglGetCurrentContext() != EGL_NO_CONTEXT;
+    /* System V shared memory mapped: llvmpipe's picture, which the X server reads (MIT-SHM) */
+    int shared = 0;
+    FILE *f = fopen("/proc/self/maps", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f))
+        shared += strstr(line, "SYSV") != NULL;
+    if (f)
+        fclose(f);
+    if (shared)
+        return egl ? "through EGL, the picture in memory shared with the X server"
+                   : "through GLX, the picture in memory shared with the X server";
+    /* a GPU's driver (DRI3) shares buffers otherwise; llvmpipe on X11 then sends each picture */
+    return egl ? "through EGL, no System V memory shared (llvmpipe on X11: each picture sent)"
+               : "through GLX, no System V memory shared (llvmpipe on X11: each picture sent)";
 }
