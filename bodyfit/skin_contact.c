@@ -30,7 +30,10 @@ enum { PART_TRUNK, PART_L_ARM, PART_R_ARM, PART_L_LEG, PART_R_LEG, PART_COUNT };
 /* A vertex farther than this outside its own part's primitives is not that part's skin: the
    smooth union (k = 1 cm) reaches k ln 3 = 11 mm outside them where three meet; farther lies
    the hip above a thigh's cut (thigh_cut_dist), which belongs to the trunk. */
-#define CONTACT_OWN_M        0.012f
+#define CONTACT_OWN_M 0.012f
+/* Newton stops within this of CONTACT_GAP_M, m: usually after one step, the distances being
+   near linear over a few centimetres */
+#define CONTACT_TOL_M        5e-4f
 #define CONTACT_NEWTON_STEPS 3
 #define CONTACT_FD_M         1e-4f /* forward-difference step for the gradient of h, m */
 
@@ -116,13 +119,18 @@ static float torso_posed_dist(const contact *c, const float p[3])
     const float lo[3] = {-INFINITY, c->f->spine_y, c->f->chest_y};
     const float hi[3] = {c->f->spine_y, c->f->chest_y, INFINITY};
     const int joint[3] = {FIT_PELVIS, FIT_SPINE, FIT_CHEST};
-    float d = INFINITY;
+    float q[3][3], band[3];
     for (int b = 0; b < 3; ++b) {
-        float q[3];
-        to_rest(c->inv[joint[b]], p, q);
-        float band = body_maxf(lo[b] - q[1], q[1] - hi[b]);
-        d = body_minf(d, body_maxf(body_field_prim_dist(c->f, 0, q), band));
+        to_rest(c->inv[joint[b]], p, q[b]);
+        band[b] = body_maxf(lo[b] - q[b][1], q[b][1] - hi[b]);
     }
+    /* the point's own band first (band <= 0); another band's copy only where its edge is nearer
+       than what is found (the loft is the costly part) */
+    int first = band[0] <= 0.0f ? 0 : (band[1] <= 0.0f ? 1 : 2);
+    float d = body_maxf(body_field_prim_dist(c->f, 0, q[first]), band[first]);
+    for (int b = 0; b < 3; ++b)
+        if (b != first && band[b] < d)
+            d = body_minf(d, body_maxf(body_field_prim_dist(c->f, 0, q[b]), band[b]));
     return d;
 }
 
@@ -171,7 +179,7 @@ static void resolve(const contact *c, int a, int b, float p[3])
     float p0[3] = {p[0], p[1], p[2]};
     for (int it = 0; it < CONTACT_NEWTON_STEPS; ++it) {
         float h = contact_h(c, a, b, p);
-        if (h >= CONTACT_GAP_M - 1e-5f)
+        if (h >= CONTACT_GAP_M - CONTACT_TOL_M)
             break;
         float g[3];
         for (int k = 0; k < 3; ++k) {
