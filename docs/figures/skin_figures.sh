@@ -64,8 +64,9 @@ if [ -n "$BEFORE" ]; then
 fi
 echo "== test_bodyfit_contact (6,000 vertices; vertices > 2 mm inside another part)"
 "$B/tests/bodyfit/test_bodyfit_contact" | grep '^#'
-echo "== posing time (tryon-bench-skin 2000: skinning and the contact pass, walk)"
+echo "== posing time (tryon-bench-skin 2000 [arms_down]: skinning and the contact pass)"
 "$B/bodyfit/tryon-bench-skin" 2000 | tail -1
+"$B/bodyfit/tryon-bench-skin" 2000 arms_down | tail -1
 if [ -n "$BEFORE" ]; then
     echo "== the same, $BEFORE (skinning alone)"
     "$BEFORE/bodyfit/tryon-bench-skin" 2000 | tail -1
