@@ -112,6 +112,9 @@ struct fit_model {
     uint8_t *wjoint;
     float *weight;
     fit_measurements meas;
+    /* The mesh was reshaped after the field was built (fit_shape_base_apply): the field's
+     * primitives no longer match the skin, and posing skips the contact pass. */
+    int field_stale;
 };
 
 /* Rodrigues' formula (skin.c): the rotation matrix (row-major) of an axis-angle vector. */

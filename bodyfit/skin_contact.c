@@ -207,10 +207,27 @@ static int in_box(const float lo[3], const float hi[3], const float p[3])
            p[2] <= hi[2];
 }
 
+/* Whether vertex i of part a, at p, is to be moved out of part b: inside b, near its own part,
+ * and outside b at rest. A model whose mesh was reshaped after it was built (the tracker's
+ * learnt shape, fit_shape_base_apply) keeps the primitives of its first shape, and where its
+ * rest skin pokes into them that is the reshaping, not a contact: the rest pose stays as it is. */
+static int in_contact(const contact *c, const contact *rest, const fit_model *m, int i, int a,
+                      int b, const float p[3])
+{
+    return part_dist(c, b, p) < -CONTACT_TRIGGER_M && part_dist(c, a, p) < CONTACT_OWN_M &&
+           part_dist(rest, b, m->mesh.v + (size_t)i * 3) >= 0.0f;
+}
+
 void body_skin_contact(const fit_model *m, const float skin[][12], float *vertices)
 {
-    contact c;
+    static const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    float rest_skin[FIT_JOINT_COUNT][12];
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j)
+        for (int k = 0; k < 12; ++k)
+            rest_skin[j][k] = identity[k];
+    contact c, rest;
     contact_init(&c, m, skin);
+    contact_init(&rest, m, (const float(*)[12])rest_skin);
     /* Each part's posed bounds: a vertex far from a part's box cannot be inside it. */
     float lo[PART_COUNT][3], hi[PART_COUNT][3];
     for (int a = 0; a < PART_COUNT; ++a)
@@ -227,8 +244,7 @@ void body_skin_contact(const fit_model *m, const float skin[][12], float *vertic
         int a = vertex_part(m, i);
         float *p = vertices + (size_t)i * 3;
         for (int b = 0; b < PART_COUNT; ++b)
-            if (b != a && in_box(lo[b], hi[b], p) && part_dist(&c, b, p) < -CONTACT_TRIGGER_M &&
-                part_dist(&c, a, p) < CONTACT_OWN_M)
+            if (b != a && in_box(lo[b], hi[b], p) && in_contact(&c, &rest, m, i, a, b, p))
                 resolve(&c, a, b, p);
     }
 }
