@@ -27,10 +27,12 @@ enum { PART_TRUNK, PART_L_ARM, PART_R_ARM, PART_L_LEG, PART_R_LEG, PART_COUNT };
 /* At most this far a vertex is moved, m: deeper than any overlap the joint limits allow
    (measured: 29 mm at the armpit), so only a failed Newton step is clipped. */
 #define CONTACT_MAX_PUSH_M 0.06f
-/* A vertex farther than this outside its own part's primitives is not that part's skin: the
-   smooth union (k = 1 cm) reaches k ln 3 = 11 mm outside them where three meet; farther lies
-   the hip above a thigh's cut (thigh_cut_dist), which belongs to the trunk. */
-#define CONTACT_OWN_M 0.012f
+/* Only a vertex holding at least this share of its weight in its part is moved: where a
+   joint's weights blend parts (the groin between pelvis and both thighs, the armpit's apex)
+   moving single vertices by a part's distances tore triangles (measured at 69 degrees of hip
+   flexion: 45 mm moves, a groin triangle stretched 11x; with 0.7, 4.6x as plain skinning does;
+   0.6 and 0.8 gave the same counts inside, test_bodyfit_contact). */
+#define CONTACT_SHARE 0.7f
 /* Newton stops within this of CONTACT_GAP_M, m: usually after one step, the distances being
    near linear over a few centimetres */
 #define CONTACT_TOL_M        5e-4f
@@ -42,7 +44,6 @@ typedef struct contact {
     float inv[FIT_JOINT_COUNT][12]; /* rest <- posed: rows [R^T | -R^T t] */
     int n[PART_COUNT];
     short prim[PART_COUNT][BODY_MAX_PRIMS], joint[PART_COUNT][BODY_MAX_PRIMS];
-    float thigh_cut[2]; /* along each thigh's cone (0 top, 1 knee): where it leaves the hips */
 } contact;
 
 /* The shoulder girdle goes with its arm: the clavicle's cone caps the shoulder joint, and a
@@ -61,7 +62,8 @@ static int joint_part(int j)
     return PART_TRUNK;
 }
 
-static int vertex_part(const fit_model *m, int i)
+/* The part holding most of vertex i's weight, and (share) that weight. */
+static int vertex_part(const fit_model *m, int i, float *share)
 {
     float w[PART_COUNT] = {0};
     for (int k = 0; k < FIT_MAX_INFLUENCES; ++k)
@@ -71,6 +73,7 @@ static int vertex_part(const fit_model *m, int i)
     for (int a = 1; a < PART_COUNT; ++a)
         if (w[a] > w[best])
             best = a;
+    *share = w[best];
     return best;
 }
 
@@ -93,15 +96,11 @@ static void contact_init(contact *c, const fit_model *m, const float skin[][12])
     }
     for (int a = 0; a < PART_COUNT; ++a)
         c->n[a] = 0;
-    c->thigh_cut[0] = c->thigh_cut[1] = 0.0f;
     add_prim(c, PART_TRUNK, 0, FIT_PELVIS); /* the torso: its three bands, see part_dist */
     add_prim(c, PART_TRUNK, 1, FIT_HEAD);
     for (int i = 0; i < m->field.cone_count; ++i) {
         int j = m->field.cone[i].joint;
         add_prim(c, joint_part(j), 2 + i, j);
-        const body_cone *cn = &m->field.cone[i];
-        if ((j == FIT_L_HIP || j == FIT_R_HIP) && cn->ba[1] < 0.0f)
-            c->thigh_cut[j == FIT_R_HIP] = (m->field.torso_lo - cn->a[1]) / cn->ba[1];
     }
 }
 
@@ -134,18 +133,6 @@ static float torso_posed_dist(const contact *c, const float p[3])
     return d;
 }
 
-/* The thigh's cone starts inside the hips (field.c, build_leg): above the crotch it is hip, not
- * thigh, and a contact surface there would pull the groin apart (measured: 45 mm moves and
- * triangles stretched 11x at 69 degrees of hip flexion). For contact the cone is cut where its
- * axis leaves the torso's bottom; the distance to that cut, m (> 0 on the hip's side). */
-static float thigh_cut_dist(const contact *c, int side, int cone, const float q[3])
-{
-    const body_cone *cn = &c->f->cone[cone];
-    float pa[3] = {q[0] - cn->a[0], q[1] - cn->a[1], q[2] - cn->a[2]};
-    float t = body_dot(pa, cn->ba) * cn->inv_l2;
-    return (c->thigh_cut[side] - t) / sqrtf(cn->inv_l2);
-}
-
 /* Distance from a posed point to part a: its primitives, each carried by its joint. */
 static float part_dist(const contact *c, int a, const float p[3])
 {
@@ -157,11 +144,7 @@ static float part_dist(const contact *c, int a, const float p[3])
         }
         float q[3];
         to_rest(c->inv[c->joint[a][k]], p, q);
-        float dk = body_field_prim_dist(c->f, c->prim[a][k], q);
-        int j = c->joint[a][k];
-        if (j == FIT_L_HIP || j == FIT_R_HIP)
-            dk = body_maxf(dk, thigh_cut_dist(c, j == FIT_R_HIP, c->prim[a][k] - 2, q));
-        d = body_minf(d, dk);
+        d = body_minf(d, body_field_prim_dist(c->f, c->prim[a][k], q));
     }
     return d;
 }
@@ -207,14 +190,14 @@ static int in_box(const float lo[3], const float hi[3], const float p[3])
            p[2] <= hi[2];
 }
 
-/* Whether vertex i of part a, at p, is to be moved out of part b: inside b, near its own part,
- * and outside b at rest. A model whose mesh was reshaped after it was built (the tracker's
- * learnt shape, fit_shape_base_apply) keeps the primitives of its first shape, and where its
- * rest skin pokes into them that is the reshaping, not a contact: the rest pose stays as it is. */
-static int in_contact(const contact *c, const contact *rest, const fit_model *m, int i, int a,
-                      int b, const float p[3])
+/* Whether vertex i, at p, is to be moved out of part b: inside b and outside b at rest. A model
+ * whose mesh was reshaped after it was built (the tracker's learnt shape, fit_shape_base_apply)
+ * keeps the primitives of its first shape, and where its rest skin pokes into them that is the
+ * reshaping, not a contact: the rest pose stays as it is. */
+static int in_contact(const contact *c, const contact *rest, const fit_model *m, int i, int b,
+                      const float p[3])
 {
-    return part_dist(c, b, p) < -CONTACT_TRIGGER_M && part_dist(c, a, p) < CONTACT_OWN_M &&
+    return part_dist(c, b, p) < -CONTACT_TRIGGER_M &&
            part_dist(rest, b, m->mesh.v + (size_t)i * 3) >= 0.0f;
 }
 
@@ -235,16 +218,18 @@ void body_skin_contact(const fit_model *m, const float skin[][12], float *vertic
             lo[a][k] = INFINITY, hi[a][k] = -INFINITY;
     int nv = m->mesh.nv;
     for (int i = 0; i < nv; ++i) {
-        int a = vertex_part(m, i);
+        float share;
+        int a = vertex_part(m, i, &share);
         const float *p = vertices + (size_t)i * 3;
         for (int k = 0; k < 3; ++k)
             lo[a][k] = body_minf(lo[a][k], p[k]), hi[a][k] = body_maxf(hi[a][k], p[k]);
     }
     for (int i = 0; i < nv; ++i) {
-        int a = vertex_part(m, i);
+        float share;
+        int a = vertex_part(m, i, &share);
         float *p = vertices + (size_t)i * 3;
-        for (int b = 0; b < PART_COUNT; ++b)
-            if (b != a && in_box(lo[b], hi[b], p) && in_contact(&c, &rest, m, i, a, b, p))
+        for (int b = 0; b < PART_COUNT && share >= CONTACT_SHARE; ++b)
+            if (b != a && in_box(lo[b], hi[b], p) && in_contact(&c, &rest, m, i, b, p))
                 resolve(&c, a, b, p);
     }
 }

@@ -1,7 +1,7 @@
 /* The posed skin does not pass through itself (skin_contact.c): with the arms lowered to 6
- * degrees from vertical and in the boxing guard few body vertices lie more than 2 mm inside
- * another part, where plain linear blend skinning of the same poses leaves many; with a thigh
- * raised into the belly, fewer. Measured on the posed mesh alone: ray parity, then the distance
+ * degrees from vertical, in the boxing guard and with a thigh raised into the belly few body
+ * vertices lie more than 2 mm inside another part, where plain linear blend skinning of the same
+ * poses leaves many. Measured on the posed mesh alone: ray parity, then the distance
  * to the other parts' triangles. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -241,8 +241,8 @@ static deep measure(void)
  * weights blend two parts (the armpit's apex, the hip crease), which a pass that moves each
  * part's skin to the contact surface does not undo (docs/body-model.md). Each pose must press
  * parts into each other under plain skinning, and the pass must leave at most most_left
- * vertices deeper than 2 mm (measured: arms_down 10 of 163, boxing_guard 27 of 219,
- * thigh_raised 92 of 130). */
+ * vertices deeper than 2 mm (measured: arms_down 9 of 163, boxing_guard 29 of 219,
+ * thigh_raised 23 of 130). */
 static void check_pose(const char *name, const fit_pose *p, int most_left)
 {
     assert_int_equal(fit_model_pose_lbs(model, p, pos, NULL), 0);
@@ -267,7 +267,7 @@ static void test_arms_lowered_stop_at_the_chest(void **state)
     check_pose("boxing_guard", &p, 32);
 }
 
-static void test_raised_thigh_goes_less_into_the_belly(void **state)
+static void test_raised_thigh_stops_at_the_belly(void **state)
 {
     (void)state;
     fit_pose p;
@@ -275,7 +275,7 @@ static void test_raised_thigh_goes_less_into_the_belly(void **state)
     p.rot[FIT_L_HIP][0] = -100.0f * PI_F / 180.0f; /* flexion: the thigh forward and up */
     p.rot[FIT_L_KNEE][0] = 90.0f * PI_F / 180.0f;
     assert_int_equal(fit_pose_clamp(&p), 0);
-    check_pose("thigh_raised", &p, 100);
+    check_pose("thigh_raised", &p, 30);
 }
 
 static void test_rest_pose_is_unchanged(void **state)
@@ -294,7 +294,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rest_pose_is_unchanged),
         cmocka_unit_test(test_arms_lowered_stop_at_the_chest),
-        cmocka_unit_test(test_raised_thigh_goes_less_into_the_belly),
+        cmocka_unit_test(test_raised_thigh_stops_at_the_belly),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
