@@ -18,8 +18,8 @@ enum { PART_TRUNK, PART_L_ARM, PART_R_ARM, PART_L_LEG, PART_R_LEG, PART_COUNT };
 /* The two sheets of skin at a contact are kept 6 mm apart: coplanar sheets would leave the
    inside of the body ambiguous to the sim's collider and to a ray test, and the mesh's edges
    (about 2 cm at 6,000 vertices) join moved vertices to unmoved ones across the gap. Measured
-   (test_bodyfit_contact, arms_down held): 3 mm leaves 14 vertices > 2 mm inside another part,
-   6 mm and 10 mm 8 (docs/body-model.md). */
+   (test_bodyfit_contact, vertices > 2 mm inside another part, arms_down held / boxing_guard):
+   3 mm 15 / -, 6 mm 9 / 29, 10 mm 8 / 33. */
 #define CONTACT_GAP_M 0.006f
 /* A vertex is only moved once 0.1 mm inside another part: rest vertices lie on the surface to
    Newton's 1e-6 and the decimation's projection, so this keeps the rest pose exact. */
