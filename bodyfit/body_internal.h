@@ -74,6 +74,8 @@ void body_field_build(const body_skeleton *sk, const fit_shape *s, const body_ca
 float body_field_eval(const body_field *f, const float p[3]);
 /* Gradient by central differences. */
 void body_field_grad(const body_field *f, const float p[3], float g[3]);
+/* Distance to one primitive (< 0 inside): 0 the torso, 1 the head, 2 + i cone i. */
+float body_field_prim_dist(const body_field *f, int prim, const float p[3]);
 /* Moves p onto the zero set by a few Newton steps along the gradient. */
 void body_field_project(const body_field *f, float p[3]);
 /* Per-joint skinning weights at p (FIT_JOINT_COUNT floats, sum 1). */
@@ -110,6 +112,9 @@ struct fit_model {
     uint8_t *wjoint;
     float *weight;
     fit_measurements meas;
+    /* The mesh was reshaped after the field was built (fit_shape_base_apply): the field's
+     * primitives no longer match the skin, and posing skips the contact pass. */
+    int field_stale;
 };
 
 /* Rodrigues' formula (skin.c): the rotation matrix (row-major) of an axis-angle vector. */
@@ -118,6 +123,11 @@ void body_axis_angle_matrix(const float r[3], double m[9]);
  * centre, J the rest centre) and, if joints_out is set, the world centres (skin.c). */
 void body_joint_transforms(const body_skeleton *sk, const fit_pose *pose, float skin[][12],
                            float *joints_out);
+
+/* Where two parts of the posed body (trunk, each arm, each leg; a vertex belongs to the part
+ * holding most of its skinning weight) pass through each other, moves each part's vertices to
+ * their contact surface (skin_contact.c). skin: body_joint_transforms' matrices. */
+void body_skin_contact(const fit_model *m, const float skin[][12], float *vertices);
 
 /* Small vector helpers. */
 static inline float body_dot(const float a[3], const float b[3])

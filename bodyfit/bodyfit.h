@@ -88,10 +88,15 @@ const int32_t *fit_model_triangles(const fit_model *m);   /* [triangle][3], coun
 const float *fit_model_rest_vertices(const fit_model *m); /* [vertex][3] */
 const fit_shape *fit_model_shape(const fit_model *m);
 
-/* Linear-blend skinning. vertices_out: vertex_count * 3 floats; joints_out (may be NULL):
- * FIT_JOINT_COUNT * 3 floats, world joint centres. Deterministic; no allocation. */
+/* The posed body: linear-blend skinning, then where two parts (trunk, arms, legs) pass through
+ * each other each part's skin stops at their contact surface (docs/body-model.md). vertices_out:
+ * vertex_count * 3 floats; joints_out (may be NULL): FIT_JOINT_COUNT * 3 floats, world joint
+ * centres. Deterministic; no allocation. */
 int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out,
                    float *joints_out);
+/* Linear-blend skinning alone (what the fitter's derivatives describe); same arguments. */
+int fit_model_pose_lbs(const fit_model *m, const fit_pose *pose, float *vertices_out,
+                       float *joints_out);
 
 int fit_model_write_obj(const fit_model *m, const float *vertices, const char *path);
 

@@ -239,6 +239,20 @@ static int prim_dists(const body_field *f, const float p[3], float *d)
     return 2 + f->cone_count;
 }
 
+float body_field_prim_dist(const body_field *f, int prim, const float p[3])
+{
+    if (prim == 0)
+        return torso_dist(f, p);
+    if (prim == 1)
+        return ellipsoid_dist(f->head_c, f->head_r, p);
+    const body_cone *c = &f->cone[prim - 2];
+    float pa[3] = {p[0] - c->a[0], p[1] - c->a[1], p[2] - c->a[2]};
+    float t = body_dot(pa, c->ba) * c->inv_l2;
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    float d[3] = {pa[0] - t * c->ba[0], pa[1] - t * c->ba[1], pa[2] - t * c->ba[2]};
+    return sqrtf(body_dot(d, d)) - (c->ra + t * (c->rb - c->ra));
+}
+
 /* Exponential smooth union -k ln sum exp(-d_i / k), shifted by the minimum for range. */
 float body_field_eval(const body_field *f, const float p[3])
 {

@@ -43,7 +43,7 @@ int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver 
         a[i] += eps[i];
         fit_shape_q qi = fit_shape_q_from_array(a);
         fit_shape_base_apply(b, coarse, &qi);
-        int rc = fit_model_pose(coarse, pose, scratch + (size_t)(i - 1) * nv3, NULL);
+        int rc = fit_model_pose_lbs(coarse, pose, scratch + (size_t)(i - 1) * nv3, NULL);
         a[i] = ai;
         if (rc) {
             fit_shape_base_apply(b, coarse, q);

@@ -431,7 +431,7 @@ int fit_solve(fit_solver *s, const fit_problem *pb, fit_pose *pose, fit_stats *s
     s->match_n = 0;
     for (int it = 0; it <= pb->iterations; ++it) {
         body_joint_transforms(&s->m->sk, pose, f.skin, f.joints);
-        fit_model_pose(s->m, pose, s->pos, NULL);
+        fit_model_pose_lbs(s->m, pose, s->pos, NULL);
         if (fit_model_normals(s->m, s->pos, s->nrm) || grid_build(s, &f.g, f.cam))
             return -FIT_ERR_MESH;
         double A[NP * NP], b[NP], sq = 0.0;

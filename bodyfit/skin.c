@@ -1,4 +1,5 @@
-/* Linear-blend skinning: per-joint 3x4 matrices from the pose, then one tight vertex loop. */
+/* Posing: per-joint 3x4 matrices from the pose, one tight linear-blend vertex loop, then the
+ * contact pass where parts meet (skin_contact.c). */
 #include "body_internal.h"
 
 #include <math.h>
@@ -77,14 +78,8 @@ void body_joint_transforms(const body_skeleton *sk, const fit_pose *pose, float 
     }
 }
 
-int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out, float *joints_out)
+static void blend_skin(const fit_model *m, const float skin[][12], float *vertices_out)
 {
-    if (!m || !pose || !vertices_out)
-        return -FIT_ERR_ARG;
-    if (!pose_finite(pose))
-        return -FIT_ERR_NAN;
-    float skin[FIT_JOINT_COUNT][12];
-    body_joint_transforms(&m->sk, pose, skin, joints_out);
     const float *rest = m->mesh.v, *wt = m->weight;
     const uint8_t *wj = m->wjoint;
     for (int i = 0, n = m->mesh.nv; i < n; ++i) {
@@ -100,7 +95,32 @@ int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out
         o[1] = b[4] * v[0] + b[5] * v[1] + b[6] * v[2] + b[7];
         o[2] = b[8] * v[0] + b[9] * v[1] + b[10] * v[2] + b[11];
     }
+}
+
+static int pose_mesh(const fit_model *m, const fit_pose *pose, float *vertices_out,
+                     float *joints_out, int contact)
+{
+    if (!m || !pose || !vertices_out)
+        return -FIT_ERR_ARG;
+    if (!pose_finite(pose))
+        return -FIT_ERR_NAN;
+    float skin[FIT_JOINT_COUNT][12];
+    body_joint_transforms(&m->sk, pose, skin, joints_out);
+    blend_skin(m, skin, vertices_out);
+    if (contact && !m->field_stale)
+        body_skin_contact(m, skin, vertices_out);
     return 0;
+}
+
+int fit_model_pose(const fit_model *m, const fit_pose *pose, float *vertices_out, float *joints_out)
+{
+    return pose_mesh(m, pose, vertices_out, joints_out, 1);
+}
+
+int fit_model_pose_lbs(const fit_model *m, const fit_pose *pose, float *vertices_out,
+                       float *joints_out)
+{
+    return pose_mesh(m, pose, vertices_out, joints_out, 0);
 }
 
 int fit_model_normals(const fit_model *m, const float *vertices, float *normals_out)
