@@ -130,8 +130,7 @@ int gar_check_outline(const gar_panel *pn, gar_reject *why)
     int rc = 0;
     double area = gar_polygon_area(xy, n);
     if (!(area > 0))
-        rc = gar_refuse(why, GAR_ERR_OUTLINE,
-                        "panel '%s': outline encloses no area (%.3g m^2)",
+        rc = gar_refuse(why, GAR_ERR_OUTLINE, "panel '%s': outline encloses no area (%.3g m^2)",
                         pn->name, area);
     for (int i = 0; i < n && !rc; i++)
         for (int j = i + 2; j < n && !rc; j++) {
