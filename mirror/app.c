@@ -155,6 +155,13 @@ static void warm_up(mirror_app *a)
         mirror_present(a->renderer, w, h);
         glFinish();
     }
+    /* headless, the first frame also writes the session's first PNG: its read-back and zlib's
+       buffers too (kept in the heap, tryon_heap.h), written where nothing keeps it */
+    if (a->out_dir && a->rgb) {
+        mirror_read_rgb(a->renderer, a->rgb);
+        if (mirror_png_write("/dev/null", a->rgb, a->width, a->height, err, sizeof err) < 0)
+            fprintf(stderr, "tryon-mirror: warm-up PNG: %s\n", err);
+    }
     fprintf(stderr, "tryon-mirror: warmed up: a first draw of %.1f ms (shaders compiled)\n",
             (double)(bus_now_mono_us() - t0) / 1000.0);
 }

@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "mirror.h"
+#include "tryon_heap.h"
 #include "render_private.h"
 
 #define DW 640
@@ -110,7 +111,7 @@ int main(int argc, char **argv)
         }
     }
     setenv("LP_NUM_THREADS", "1", 0);
-    mirror_keep_heap(); /* as tryon-mirror */
+    tryon_keep_heap(); /* as tryon-mirror */
     char err[512];
     mirror_gl *gl = mirror_gl_headless(err, sizeof err);
     mirror_renderer *r = gl ? mirror_renderer_create(w, h, err, sizeof err) : NULL;

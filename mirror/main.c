@@ -12,6 +12,7 @@
 
 #include "bus.h"
 #include "mirror.h"
+#include "tryon_heap.h"
 #include "mirror_app.h"
 
 static volatile sig_atomic_t stop_requested;
@@ -166,7 +167,7 @@ int main(int argc, char **argv)
         return 2;
     }
     setenv("LP_NUM_THREADS", "1", 0); /* llvmpipe: one thread; fitting and cloth need the cores */
-    mirror_keep_heap();
+    tryon_keep_heap();
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);

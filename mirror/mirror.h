@@ -84,10 +84,6 @@ unsigned mirror_renderer_fbo(const mirror_renderer *r);
 #define MIRROR_FIT_MAP_LIMIT 0.03f /* ARCHITECTURE.md: max stretch strain 3 % */
 void mirror_fit_colour(float strain, float *rgb);
 
-/* Keeps freed memory in the process (glibc's mallopt) so that llvmpipe's per-frame buffers do not
- * cost fresh pages every frame; call once, before the first frame. */
-void mirror_keep_heap(void);
-
 /* An OpenGL ES 3 context without any display: EGL's surfaceless Mesa platform. */
 typedef struct mirror_gl mirror_gl;
 mirror_gl *mirror_gl_headless(char *err, size_t err_size);

@@ -13,7 +13,10 @@
 #include "garments.h"
 #include "outfit_pattern.h"
 #include "queue.h"
+#include "rehearse.h"
 #include "sim.h"
+#include "tryon_clock.h"
+#include "tryon_heap.h"
 
 /* The garment's triangles go with every 10th CLOTH (and a new garment's first): a mirror that
    starts, or starts again, draws it within a third of a second at 30 fps, for 170 kB more a
@@ -91,6 +94,8 @@ typedef struct app {
     int diverged_run;     /* bodies in a row on which the garment diverged */
     int made_on_init;     /* the garment was made on, or has since met, an INIT body: a shape
                              still estimated (a person entering, or entering again) */
+    int fresh;            /* the garment was made on the body now stepped: sim_start, no step */
+    int rehearse;         /* --rehearse on: the first garment made once before listening */
     int made_num_shape;   /* the shape the garment was made on (0: the body carried none) */
     float made_shape[SIM_MAIN_SHAPE];
     int fatal;  /* an error no body can fix (the garment file): exit 1 */
@@ -214,6 +219,7 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
         return -1;
     }
     a->garment_gen = topo->gen;
+    a->fresh = !a->outfit.is_pattern; /* a pattern's settling has stepped it on this body */
     a->diverged_run = 0;
     a->made_on_init = b->state == TRYON_BODY_T_STATE_INIT;
     a->made_num_shape = b->num_shape;
@@ -465,7 +471,11 @@ static void step_body(app *a, pending_body *b)
     sim_set_frame_budget(a->sim, budget);
     sim_frame_stats st;
     int64_t cpu0 = bus_now_cpu_us(); /* every OpenMP thread's */
-    int r = sim_step(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &st, &why);
+    /* a garment made on this very body is published as made: its first frame costs the
+       making, not a step besides (sim_start) */
+    int r = a->fresh ? sim_start(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &st, &why)
+                     : sim_step(a->sim, b->xyz, b->nv, topo->tris, topo->nt, &st, &why);
+    a->fresh = 0;
     float cpu_ms = (float)(bus_now_cpu_us() - cpu0) / 1000.0f;
     if (r < 0 && r != -SIM_ERR_DIVERGED) {
         fprintf(stderr, "tryon-sim: body %d rejected: %s: %s; frame skipped\n", b->seq,
@@ -515,11 +525,13 @@ static int usage(FILE *f, int rc)
             "                 [--verts N] [--iterations K] [--frames N] [--queue N|latest|all]\n"
             "                 [--follow F] [--retry-budget MS] [--hem M] [--fabric NAME]\n"
             "                 [--frame-budget auto|MS] [--deadline MS] [--settle-floor MM]\n"
-            "                 [--stats FILE]\n"
+            "                 [--stats FILE] [--rehearse on|off]\n"
             "  --stats FILE: a CSV line per simulated body (body, state, settle rounds, retries,\n"
             "          strain retries, iterations, feature points moved, max strain, max\n"
             "          penetration mm, iterations ms, total ms, CPU ms (all threads), budget ms,\n"
             "          the body's median vertex motion since the last simulated body, mm)\n"
+            "  --rehearse on|off: before listening, the garment made, started and stepped once\n"
+            "          on a stand-in body, its memory kept for the first person (default on)\n"
             "  --backend auto (default): where the OpenCL device is a GPU, the faster of C and\n"
             "          OpenCL on the first garment, measured; OpenCL where TRYON_CL_DEVICE names\n"
             "          a device; else C. opencl falls back to C when no device opens\n"
@@ -587,6 +599,7 @@ static int parse(app *a, int argc, char **argv)
     a->deadline_ms = SIM_MAIN_DEADLINE_MS;
     a->backend_auto = 1; /* the product runs on the GPU where there is one (auto_backend) */
     a->verts = 7000;
+    a->rehearse = 1;
     a->size = SIM_SIZE_M;
     a->triangles_every = SIM_MAIN_TRIANGLES_EVERY;
     bus_queue_init(&a->queue, SIM_MAIN_QUEUE);
@@ -612,6 +625,8 @@ static int parse(app *a, int argc, char **argv)
             a->fabric = v;
         else if (!strcmp(o, "--verts"))
             a->verts = atoi(v);
+        else if (!strcmp(o, "--rehearse") && (!strcmp(v, "on") || !strcmp(v, "off")))
+            a->rehearse = !strcmp(v, "on");
         else if (!strcmp(o, "--iterations"))
             a->desc.iterations = atoi(v);
         else if (!strcmp(o, "--hem") && atof(v) >= 0.0)
@@ -664,6 +679,17 @@ int main(int argc, char **argv)
         return pr > 0 ? usage(stdout, 0) : usage(stderr, 2);
     }
     char err[512], channel_body[BUS_CHANNEL_MAX];
+    tryon_keep_heap();
+    if (a.rehearse) { /* kept as the garment replaced: the first one takes its body state */
+        double t0 = tryon_now_ms();
+        a.replaced = sim_rehearse(&a.outfit, &a.desc, a.verts, err, sizeof err);
+        if (!a.replaced)
+            fprintf(stderr, "tryon-sim: no rehearsal (%s); the first garment takes fresh memory\n",
+                    err);
+        else
+            fprintf(stderr, "tryon-sim: rehearsed the garment on a stand-in body in %.0f ms\n",
+                    tryon_now_ms() - t0);
+    }
     sim_topologies_init(&a.topo, a.desc.max_body_vertices, a.desc.max_body_triangles);
     a.lcm = bus_open(NULL, err, sizeof err);
     if (!a.lcm) {

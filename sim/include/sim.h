@@ -199,6 +199,16 @@ void sim_destroy(sim *s);
  * same body limits and contact settings, else nothing is taken. 0, or -1 (nothing changed). */
 int sim_take_body(sim *s, sim *from);
 
+/* The garment as made, for the body it was made on, before any sim_step: the body's collision
+ * state is built (a first sim_step's dearest part: its tree and adjacency, 20-30 ms for a
+ * 6,000-vertex body) and the cloth is measured as it stands, as sim_step measures what it
+ * publishes (stats' strain and penetration; state OK), with no step. The next sim_step sweeps
+ * from this body. A live stage publishes a new garment at once this way (tryon-sim): the cloth
+ * of its first body costs the making, not a frame besides. 0, or a negative sim_error (a
+ * refused body changes nothing; after a step: SIM_ERR_ARG). */
+int sim_start(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+              sim_frame_stats *stats, sim_reject *why);
+
 /* One body frame (same topology every frame; a change restarts the sweep). Returns 0 or a
  * negative sim_error; the published positions are never NaN: on failure they stay those of the
  * last good frame. */
