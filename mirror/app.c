@@ -13,39 +13,6 @@
  * is shown before the sim's first cloth, or after it stops. */
 #define MIRROR_CLOTH_STALE_US 500000
 
-static int hold(mirror_held *h, const float *xyz, int ncoords, const int32_t *tris, int nidx,
-                int32_t topology)
-{
-    int nv = ncoords / 3;
-    if (nidx == 0 && (topology != h->topology || !h->tris))
-        return -1; /* triangles not seen yet for this topology */
-    if (nv > h->v_cap) {
-        float *p = realloc(h->xyz, (size_t)ncoords * sizeof *p);
-        if (!p)
-            return -1;
-        h->xyz = p;
-        h->v_cap = nv;
-    }
-    memcpy(h->xyz, xyz, (size_t)ncoords * sizeof *xyz);
-    h->nv = nv;
-    if (nidx > 0) {
-        if (nidx / 3 > h->t_cap) {
-            int32_t *t = realloc(h->tris, (size_t)nidx * sizeof *t);
-            if (!t)
-                return -1;
-            h->tris = t;
-            h->t_cap = nidx / 3;
-        }
-        memcpy(h->tris, tris, (size_t)nidx * sizeof *tris);
-        h->nt = nidx / 3;
-        h->topology = topology;
-    }
-    for (int i = 0; i < h->nt * 3; i++) /* old triangles, new vertex count: not drawable */
-        if (h->tris[i] >= nv)
-            return -1;
-    return 0;
-}
-
 static void on_depth(const char *ch, const void *m, void *user)
 {
     (void)ch;
@@ -65,25 +32,21 @@ static void on_depth(const char *ch, const void *m, void *user)
         a->depth_new = 1;
 }
 
+/* A CLOTH waits to be drawn (mirror/cloth_queue.c: the oldest superseded at a full queue; one
+ * that cannot be drawn skipped; both counted). */
 static void on_cloth(const char *ch, const void *m, void *user)
 {
     (void)ch;
     mirror_app *a = user;
     const tryon_cloth_t *c = m;
+    if (mirror_cloth_queue_push(&a->queue, c, bus_now_wall_us()) < 0)
+        return;
     if (strcmp(c->garment_id, a->garment_id) != 0) { /* a new garment: its own rest lengths */
         snprintf(a->garment_id, sizeof a->garment_id, "%s", c->garment_id);
         mirror_strain_reset(a->strain);
     }
-    if (hold(&a->cloth, c->vertices, c->num_vertex_coords, c->triangles, c->num_triangle_indices,
-             c->topology_id) < 0) {
-        a->cloth_skipped++;
-        return;
-    }
-    a->cloth.utime_capture = c->utime_capture;
-    a->cloth.seq = c->seq;
-    a->cloth.received_us = bus_now_wall_us();
     a->last_cloth_us = bus_now_mono_us();
-    a->cloth_new = a->have_cloth = 1;
+    a->have_cloth = 1;
 }
 
 static void on_body(const char *ch, const void *m, void *user)
@@ -91,8 +54,8 @@ static void on_body(const char *ch, const void *m, void *user)
     (void)ch;
     mirror_app *a = user;
     const tryon_body_t *b = m;
-    hold(&a->body, b->vertices, b->num_vertex_coords, b->triangles, b->num_triangle_indices,
-         b->topology_id);
+    mirror_hold(&a->body, b->vertices, b->num_vertex_coords, b->triangles, b->num_triangle_indices,
+                b->topology_id);
 }
 
 static void on_timing(const char *ch, const void *m, void *user)
@@ -237,7 +200,7 @@ int mirror_app_open(mirror_app *a)
 
 int mirror_app_due(const mirror_app *a)
 {
-    if (a->cloth_new)
+    if (mirror_cloth_queue_count(&a->queue) > 0)
         return 1;
     /* a window shows the person alone while no garment comes; files get garment frames only */
     return a->window && a->depth_new &&
@@ -291,8 +254,8 @@ static void write_outputs(mirror_app *a)
 
 int mirror_app_frame(mirror_app *a)
 {
-    int with_cloth = a->cloth_new, exact = 0;
-    a->cloth_new = a->depth_new = 0;
+    int with_cloth = mirror_cloth_queue_take(&a->queue, &a->cloth), exact = 0;
+    a->depth_new = 0;
     const mirror_depth *d = with_cloth ? mirror_ring_find(a->ring, a->cloth.utime_capture, &exact)
                                        : mirror_ring_newest(a->ring);
     if (!d)
@@ -364,12 +327,6 @@ void mirror_app_send_control(mirror_app *a)
         fprintf(stderr, "tryon-mirror: asked for %s size %c\n", c.garment, "SML"[a->size]);
 }
 
-static void held_free(mirror_held *h)
-{
-    free(h->xyz);
-    free(h->tris);
-}
-
 void mirror_app_close(mirror_app *a)
 {
     if (a->video) {
@@ -382,8 +339,8 @@ void mirror_app_close(mirror_app *a)
     }
     fprintf(stderr,
             "tryon-mirror: %d frames drawn (%d PNG), %d CLOTH without its DEPTH frame, %d CLOTH "
-            "skipped (triangles not yet received)\n",
-            a->frames_drawn, a->pngs_written, a->unmatched, a->cloth_skipped);
+            "skipped (triangles not yet received), %d superseded by newer ones waiting\n",
+            a->frames_drawn, a->pngs_written, a->unmatched, a->queue.skipped, a->queue.superseded);
     for (int i = 0; i < 4; i++)
         if (a->subs[i]) {
             const bus_stats *s = bus_sub_stats(a->subs[i]);
@@ -399,7 +356,8 @@ void mirror_app_close(mirror_app *a)
         lcm_destroy(a->lcm);
     mirror_ring_destroy(a->ring);
     mirror_strain_destroy(a->strain);
-    held_free(&a->cloth);
-    held_free(&a->body);
+    mirror_held_free(&a->cloth);
+    mirror_held_free(&a->body);
+    mirror_cloth_queue_free(&a->queue);
     free(a->rgb);
 }

@@ -28,11 +28,14 @@ static void usage(FILE *f)
     fprintf(f, "usage: tryon-mirror [--headless --out DIR] [--video FILE.mp4] [--kiosk]\n"
                "                    [--size WxH] [--frames N] [--png-every N] [--garment FILE]...\n"
                "                    [--fabric NAME] [--fit-map] [--body] [--no-overlay]\n"
+               "                    [--queue N|latest]\n"
                "  --headless: no window; EGL's surfaceless Mesa platform (no display needed)\n"
                "  --out DIR: a PNG per rendered frame (frame_00000.png, ...), every --png-every N\n"
                "  --video FILE.mp4: the frames through ffmpeg (H.264, 30 fps)\n"
                "  --size WxH: the picture, default 640x480 (the window may be resized)\n"
                "  --frames N: exit after N frames drawn with a garment (0: run until stopped)\n"
+               "  --queue N|latest: at most N CLOTH wait to be drawn, oldest first (1-4, default\n"
+               "          2); one arriving at a full queue supersedes the oldest. latest: 1\n"
                "  --garment FILE: a garment file offered besides shirt and tunic (repeatable)\n"
                "  --fabric NAME: the fabric asked for over CONTROL (cotton, denim, jersey, silk)\n"
                "  keys: right/left garment, up/down size, o overlay, f fit map, b body, q quit\n"
@@ -54,6 +57,7 @@ static int parse(mirror_app *a, int argc, char **argv)
     a->height = 480;
     a->png_every = 1;
     a->overlay = 1;
+    mirror_cloth_queue_init(&a->queue, MIRROR_APP_QUEUE);
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
@@ -86,6 +90,10 @@ static int parse(mirror_app *a, int argc, char **argv)
                 a->frames_wanted = atoi(v);
             else if (!strcmp(o, "--png-every") && atoi(v) >= 1)
                 a->png_every = atoi(v);
+            else if (!strcmp(o, "--queue") && !strcmp(v, "latest"))
+                mirror_cloth_queue_init(&a->queue, 1);
+            else if (!strcmp(o, "--queue") && atoi(v) >= 1 && atoi(v) <= BUS_QUEUE_MAX)
+                mirror_cloth_queue_init(&a->queue, atoi(v));
             else if (!strcmp(o, "--size") && parse_size(v, &a->width, &a->height) == 0)
                 ;
             else {
@@ -139,9 +147,10 @@ static void on_key(mirror_app *a, mirror_key k)
 static int run(mirror_app *a)
 {
     while (!stop_requested) {
-        int r = lcm_handle_timeout(a->lcm, 10);
+        /* what has arrived, then one frame: the oldest CLOTH waiting (at most --queue of them) */
+        int r = lcm_handle_timeout(a->lcm, mirror_cloth_queue_count(&a->queue) ? 0 : 10);
         while (r > 0 && !stop_requested)
-            r = lcm_handle_timeout(a->lcm, 0); /* drain: draw only the newest */
+            r = lcm_handle_timeout(a->lcm, 0);
         if (r < 0 && !stop_requested && errno != EINTR) {
             fprintf(stderr, "tryon-mirror: LCM stopped receiving\n");
             return 1;

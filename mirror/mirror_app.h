@@ -4,22 +4,16 @@
 
 #include "bus.h"
 #include "mirror.h"
+#include "cloth_queue.h"
 
 #define MIRROR_APP_MAX_GARMENTS 16
 #define MIRROR_APP_STAGES       8
 #define MIRROR_VIDEO_FPS        30 /* the camera's rate */
 #define MIRROR_VIDEO_FRAME_US   (1000000 / MIRROR_VIDEO_FPS)
-
-/* A mesh message kept between frames: triangles arrive only now and then (topology_id). */
-typedef struct mirror_held {
-    float *xyz;
-    int nv, v_cap;
-    int32_t *tris;
-    int nt, t_cap;
-    int32_t topology;
-    int64_t utime_capture, received_us;
-    int32_t seq;
-} mirror_held;
+/* --queue's default: CLOTH waiting to be drawn, oldest first (bus/queue.h). With one, the newest
+ * only, a person's entry (the sim catching up on a few bodies while the mirror, at niceness 5,
+ * waits for a core) left 1-6 frames undrawn in every run (docs/mirror.md, "Figures today"). */
+#define MIRROR_APP_QUEUE 2
 
 typedef struct stage_latency {
     char stage[32];
@@ -39,9 +33,10 @@ typedef struct mirror_app {
     int32_t control_seq;
     /* what arrived */
     mirror_ring *ring;
-    mirror_held cloth, body;
+    mirror_held cloth, body;  /* the garment drawn last (or now), the body */
+    mirror_cloth_queue queue; /* the CLOTH waiting to be drawn (--queue) */
     char garment_id[64];
-    int cloth_new, depth_new, have_cloth, cloth_skipped, unmatched;
+    int depth_new, have_cloth, unmatched;
     int64_t last_cloth_us, last_frame_us;
     stage_latency stages[MIRROR_APP_STAGES];
     int num_stages;

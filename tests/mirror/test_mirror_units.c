@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cloth_queue.h"
 #include "mirror.h"
 #include "render_private.h"
 
@@ -164,6 +165,95 @@ static void test_text_advances_and_clips(void **state)
 }
 
 /* Failures are named codes from one list (docs/building.md, "Conventions: errors"). */
+/* A CLOTH of a quad (topology t, x offset by seq so that each frame's vertices are its own);
+ * triangles when with_tris. */
+static tryon_cloth_t quad_cloth(int32_t seq, int32_t topology, int with_tris, float *v, int32_t *t)
+{
+    static const float base[12] = {0, 0, 2, 1, 0, 2, 0, 1, 2, 1, 1, 2};
+    static const int32_t tris[6] = {0, 1, 2, 1, 3, 2};
+    memcpy(v, base, sizeof base);
+    v[0] = (float)seq;
+    memcpy(t, tris, sizeof tris);
+    return (tryon_cloth_t){.utime_capture = 1000 * seq,
+                           .seq = seq,
+                           .garment_id = "quad",
+                           .topology_id = topology,
+                           .num_vertex_coords = 12,
+                           .vertices = v,
+                           .num_triangle_indices = with_tris ? 6 : 0,
+                           .triangles = with_tris ? t : NULL};
+}
+
+static void test_cloth_queue_keeps_the_newest_two_in_order(void **state)
+{
+    (void)state;
+    mirror_cloth_queue q;
+    mirror_held drawn = {0};
+    float v[12];
+    int32_t t[6];
+    mirror_cloth_queue_init(&q, 2);
+    tryon_cloth_t c = quad_cloth(0, 7, 0, v, t);
+    assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), -1); /* no triangles for topology 7 */
+    assert_int_equal(q.skipped, 1);
+    for (int32_t seq = 1; seq <= 3; seq++) { /* a burst: 1 (with triangles), 2, 3 */
+        c = quad_cloth(seq, 7, seq == 1, v, t);
+        assert_int_equal(mirror_cloth_queue_push(&q, &c, 100 + seq), 0);
+    }
+    assert_int_equal(mirror_cloth_queue_count(&q), 2);
+    assert_int_equal(q.superseded, 1); /* 1 gave way to 3 */
+    for (int32_t seq = 2; seq <= 3; seq++) {
+        assert_int_equal(mirror_cloth_queue_take(&q, &drawn), 1);
+        assert_int_equal(drawn.seq, seq);
+        assert_int_equal(drawn.utime_capture, 1000 * seq);
+        assert_int_equal(drawn.received_us, 100 + seq);
+        assert_true(drawn.xyz[0] == (float)seq && drawn.nv == 4 && drawn.nt == 2);
+        assert_int_equal(drawn.tris[5], 2);
+    }
+    assert_int_equal(mirror_cloth_queue_take(&q, &drawn), 0);
+    assert_int_equal(drawn.seq, 3); /* the last drawn stays */
+    /* depth 1 (--queue latest): the newest alone */
+    mirror_cloth_queue_free(&q);
+    mirror_cloth_queue_init(&q, 1);
+    for (int32_t seq = 1; seq <= 3; seq++) {
+        c = quad_cloth(seq, 7, 1, v, t);
+        assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), 0);
+    }
+    assert_int_equal(q.superseded, 2);
+    assert_int_equal(mirror_cloth_queue_take(&q, &drawn), 1);
+    assert_int_equal(drawn.seq, 3);
+    mirror_cloth_queue_free(&q);
+    mirror_held_free(&drawn);
+}
+
+static void test_cloth_queue_passes_over_a_replaced_garment(void **state)
+{
+    (void)state;
+    mirror_cloth_queue q;
+    mirror_held drawn = {0};
+    float v[12];
+    int32_t t[6];
+    mirror_cloth_queue_init(&q, 2);
+    tryon_cloth_t c = quad_cloth(1, 7, 1, v, t);
+    assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), 0);
+    c = quad_cloth(2, 8, 1, v, t); /* another garment: its own topology and triangles */
+    assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), 0);
+    assert_int_equal(mirror_cloth_queue_take(&q, &drawn), 1);
+    assert_int_equal(drawn.seq, 2); /* 1's triangles are gone: passed over */
+    assert_int_equal(drawn.topology, 8);
+    assert_int_equal(q.superseded, 1);
+    /* triangles that index past a CLOTH's vertices: skipped, nothing waiting replaced */
+    c = quad_cloth(3, 8, 0, v, t);
+    c.num_vertex_coords = 9;
+    assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), -1);
+    c = quad_cloth(4, 9, 1, v, t);
+    t[0] = 4;
+    assert_int_equal(mirror_cloth_queue_push(&q, &c, 0), -1);
+    assert_int_equal(q.skipped, 2);
+    assert_int_equal(mirror_cloth_queue_count(&q), 0);
+    mirror_cloth_queue_free(&q);
+    mirror_held_free(&drawn);
+}
+
 static void test_failures_are_named(void **state)
 {
     (void)state;
@@ -195,6 +285,8 @@ int main(void)
         cmocka_unit_test(test_occlusion_margin_follows_kinect_noise),
         cmocka_unit_test(test_text_advances_and_clips),
         cmocka_unit_test(test_failures_are_named),
+        cmocka_unit_test(test_cloth_queue_keeps_the_newest_two_in_order),
+        cmocka_unit_test(test_cloth_queue_passes_over_a_replaced_garment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
