@@ -619,19 +619,29 @@ static void measure_published(sim *s, float max_strain, float p99, sim_frame_sta
     st->max_pen_mm = depth * 1000.0f;
 }
 
+/* sim_start's and sim_step's first part: the stats cleared, the body frame taken in (validated,
+   stored, the collider on it). 0, or a refusal that changed nothing. */
+static int frame_begin(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
+                       sim_frame_stats *st, sim_reject *why)
+{
+    memset(st, 0, sizeof *st);
+    if (!s)
+        return sim_reject_set(why, SIM_ERR_ARG, "sim is NULL");
+    return set_body(s, body_xyz, nv, body_tris, nt, why);
+}
+
 int sim_start(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
               sim_frame_stats *st, sim_reject *why)
 {
     sim_frame_stats local;
     if (!st)
         st = &local;
-    memset(st, 0, sizeof *st);
-    if (!s)
-        return sim_reject_set(why, SIM_ERR_ARG, "sim is NULL");
-    if (s->frame > 0)
+    if (s && s->frame > 0) {
+        memset(st, 0, sizeof *st);
         return sim_reject_set(why, SIM_ERR_ARG, "sim_start after %ld frames stepped", s->frame);
+    }
     double t0 = now_ms();
-    int r = set_body(s, body_xyz, nv, body_tris, nt, why);
+    int r = frame_begin(s, body_xyz, nv, body_tris, nt, st, why);
     if (r < 0)
         return r;
     double t1 = now_ms();
@@ -651,11 +661,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     sim_frame_stats local;
     if (!st)
         st = &local;
-    memset(st, 0, sizeof *st);
-    if (!s)
-        return sim_reject_set(why, SIM_ERR_ARG, "sim is NULL");
     double t0 = now_ms();
-    int r = set_body(s, body_xyz, nv, body_tris, nt, why);
+    int r = frame_begin(s, body_xyz, nv, body_tris, nt, st, why);
     if (r < 0) {
         st->state = SIM_STATE_OK; /* nothing simulated; the last good cloth stands */
         return r;
