@@ -223,6 +223,11 @@ int fit_clip_frame_count(const fit_clip *c);
 double fit_clip_duration(const fit_clip *c); /* seconds; fit_clip_eval loops after this */
 /* The pose at time t_s (the nearest frame, looping). */
 void fit_clip_eval(const fit_clip *c, double t_s, fit_pose *out);
+/* Turns the whole clip about the vertical axis so that its first frame faces the camera (+z):
+ * a person steps in front of a mirror facing it, whichever way the capture studio's subject
+ * faced; their turns after that are the clip's. Returns the heading taken off (radians, the
+ * pelvis's forward direction from +z towards +x; 0 when it has none). */
+double fit_clip_face_camera(fit_clip *c);
 /* The file's time (seconds) of clip frame 0: 0, or one frame time where the file opens on a
  * reference pose that the motion then leaves in a jump (CMU's clips), which is dropped. */
 double fit_clip_start(const fit_clip *c);

@@ -436,6 +436,45 @@ int fit_clip_from_bvh(const fit_bvh *b, const fit_model *m, fit_clip **out, char
     return 0;
 }
 
+/* A rotation as a matrix, from the pose's axis-angle vector. */
+static void axis_angle_mat(const float r[3], double m[9])
+{
+    double a[3] = {r[0], r[1], r[2]};
+    double th = normalise(a);
+    double q[4] = {cos(0.5 * th), sin(0.5 * th) * a[0], sin(0.5 * th) * a[1], sin(0.5 * th) * a[2]};
+    mocap_quat_to_mat(q, m);
+}
+
+double fit_clip_face_camera(fit_clip *c)
+{
+    if (!c || c->frames < 1)
+        return 0.0;
+    /* the heading of frame 0: where the pelvis's forward (+z at rest: the camera) points, seen
+       from above */
+    double r0[9], f[3], fz[3] = {0.0, 0.0, 1.0};
+    axis_angle_mat(c->pose[0].rot[FIT_PELVIS], r0);
+    mocap_mat_apply(r0, fz, f);
+    if (!(f[0] * f[0] + f[2] * f[2] > 1e-12))
+        return 0.0; /* lying face up or down: no heading to take */
+    double h = atan2(f[0], f[2]);
+    double qy[4] = {cos(-0.5 * h), 0.0, sin(-0.5 * h), 0.0}, turn[9];
+    mocap_quat_to_mat(qy, turn);
+    for (int k = 0; k < c->frames; ++k) {
+        fit_pose *p = &c->pose[k];
+        double r[9], t[9], q[4];
+        axis_angle_mat(p->rot[FIT_PELVIS], r);
+        mocap_mat_mul(turn, r, t);
+        mocap_mat_to_quat(t, q);
+        mocap_quat_to_axis_angle(q, p->rot[FIT_PELVIS]);
+        /* the path turns with the person, about where it starts (x = z = 0) */
+        double at[3] = {p->root[0], 0.0, p->root[2]}, to[3];
+        mocap_mat_apply(turn, at, to);
+        p->root[0] = (float)to[0];
+        p->root[2] = (float)to[2];
+    }
+    return h;
+}
+
 void fit_clip_destroy(fit_clip *c)
 {
     if (!c)

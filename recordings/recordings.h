@@ -214,6 +214,8 @@ typedef struct rec_synth_desc {
     uint64_t seed;
     int target_vertices; /* 0 = bodyfit's default */
     int occluder;        /* 1 = add the box for any motion */
+    int keep_heading;    /* a FILE.bvh clip: 0 = turned to face the camera at its start (a
+                            person in front of a mirror: fit_clip_face_camera); 1 = as captured */
 } rec_synth_desc;
 /* Names tryon-synth accepts, NULL past the end. */
 const char *rec_synth_motion_name(int i);

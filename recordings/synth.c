@@ -138,13 +138,15 @@ static int is_bvh(const char *motion)
 }
 
 /* A motion-capture file retargeted onto the recording's body (bodyfit.h, fit_clip). */
-static int synth_clip(synth_state *s, const char *path, rec_report *why)
+static int synth_clip(synth_state *s, const char *path, int keep_heading, rec_report *why)
 {
     char err[256] = "";
     fit_bvh *b = NULL;
     int rc = fit_bvh_load(path, &b, err, sizeof err);
     if (!rc)
         rc = fit_clip_from_bvh(b, s->model, &s->clip, err, sizeof err);
+    if (!rc && !keep_heading) /* the person enters facing the mirror */
+        fit_clip_face_camera(s->clip);
     fit_bvh_destroy(b);
     return rc ? rec_fail(why, REC_ERR_ARG, path, -1, 0, "%s", err) : REC_OK;
 }
@@ -176,7 +178,7 @@ int rec_synth(const rec_synth_desc *d, rec_report *why)
     synth_state s = {0};
     int e = synth_setup(&s, d, why);
     if (e == REC_OK && motion < 0)
-        e = synth_clip(&s, d->motion, why);
+        e = synth_clip(&s, d->motion, d->keep_heading, why);
     double seconds = s.clip ? fit_clip_duration(s.clip) : fit_motion_duration((fit_motion)motion);
     int frames = d->frames > 0 ? d->frames : (int)ceil(seconds * REC_FPS - 1e-9);
     rec_scene scene = rec_scene_default(box);

@@ -11,11 +11,14 @@ static void usage(FILE *fp)
     fprintf(fp,
             "usage: tryon-synth --out DIR [--motion NAME|FILE.bvh] [--shape 0|1|2] [--frames N]\n"
             "                   [--noise on|off] [--seed N] [--vertices N] [--occluder]\n"
+            "                   [--heading camera|clip]\n"
             "motions:");
     for (int i = 0; rec_synth_motion_name(i); i++)
         fprintf(fp, " %s", rec_synth_motion_name(i));
     fprintf(fp,
-            "\n        FILE.bvh: a motion-capture clip (CMU-style BVH) retargeted onto the body\n"
+            "\n        FILE.bvh: a motion-capture clip (CMU-style BVH) retargeted onto the body,\n"
+            "        turned to face the camera at its start (--heading camera, the default: a\n"
+            "        person before a mirror) or as captured (--heading clip)\n"
             "Replay: tryon-capture --source freenect --uri DIR\n");
 }
 
@@ -52,6 +55,8 @@ int main(int argc, char **argv)
             d.out_dir = v;
         else if (!strcmp(a, "--motion"))
             d.motion = v;
+        else if (!strcmp(a, "--heading") && (!strcmp(v, "camera") || !strcmp(v, "clip")))
+            d.keep_heading = !strcmp(v, "clip");
         else if (!strcmp(a, "--noise") && (!strcmp(v, "on") || !strcmp(v, "off")))
             d.noise = !strcmp(v, "on");
         else if (!strcmp(a, "--shape") && !parse_int(v, 0, 2, &n))

@@ -155,6 +155,50 @@ static void test_retargeted_limbs_point_like_the_clip_01_03(void **state)
     check_clip(&cc);
 }
 
+/* Turned to face the camera: Boxing_Toes's subject starts with their back to it; after
+ * fit_clip_face_camera the first frame's pelvis faces +z, and every frame's body is the clip's
+ * turned rigidly about the vertical through x = z = 0 by the heading taken off. */
+static void test_clip_turned_to_face_the_camera(void **state)
+{
+    (void)state;
+    char err[256];
+    fit_bvh *b = NULL;
+    fit_clip *c = NULL, *turned = NULL;
+    assert_int_equal(fit_bvh_load(BVH_DIR "Boxing_Toes.bvh", &b, err, sizeof err), 0);
+    assert_int_equal(fit_clip_from_bvh(b, model, &c, err, sizeof err), 0);
+    assert_int_equal(fit_clip_from_bvh(b, model, &turned, err, sizeof err), 0);
+    double h = fit_clip_face_camera(turned);
+    assert_true(fabs(h) > 2.5);                             /* about half a turn */
+    assert_true(fabs(fit_clip_face_camera(turned)) < 1e-4); /* facing it already */
+    int nv = fit_model_vertex_count(model);
+    float *v = malloc((size_t)nv * 3 * sizeof *v), ja[FIT_JOINT_COUNT * 3], jb[FIT_JOINT_COUNT * 3];
+    assert_non_null(v);
+    double ch = cos(h), sh = sin(h);
+    static const int frames[] = {0, 100, 500, 900};
+    for (size_t f = 0; f < sizeof frames / sizeof frames[0]; ++f) {
+        fit_pose pa, pb;
+        fit_clip_eval(c, frames[f] / (double)FIT_CLIP_FPS, &pa);
+        fit_clip_eval(turned, frames[f] / (double)FIT_CLIP_FPS, &pb);
+        assert_int_equal(fit_model_pose(model, &pa, v, ja), 0);
+        assert_int_equal(fit_model_pose(model, &pb, v, jb), 0);
+        for (int j = 0; j < FIT_JOINT_COUNT; ++j) { /* R_y(-h) applied to the clip's joint */
+            double x = ja[3 * j], z = ja[3 * j + 2];
+            assert_true(fabs(jb[3 * j] - (x * ch - z * sh)) < 2e-4);
+            assert_true(fabs(jb[3 * j + 1] - ja[3 * j + 1]) < 2e-4);
+            assert_true(fabs(jb[3 * j + 2] - (x * sh + z * ch)) < 2e-4);
+        }
+        if (f == 0) { /* the hips' line across the camera's view: the person faces it */
+            double dx = jb[3 * FIT_L_HIP] - jb[3 * FIT_R_HIP];
+            double dz = jb[3 * FIT_L_HIP + 2] - jb[3 * FIT_R_HIP + 2];
+            assert_true(fabs(dz) < 0.2 * fabs(dx));
+        }
+    }
+    free(v);
+    fit_clip_destroy(turned);
+    fit_clip_destroy(c);
+    fit_bvh_destroy(b);
+}
+
 /* A skeleton without arms or legs cannot drive the model: refused, naming the joint. */
 static void test_retarget_refuses_a_skeleton_without_limbs(void **state)
 {
@@ -179,6 +223,7 @@ int main(void)
         cmocka_unit_test(test_retargeted_limbs_point_like_the_clip_01_01),
         cmocka_unit_test(test_retargeted_limbs_point_like_the_clip_boxing),
         cmocka_unit_test(test_retargeted_limbs_point_like_the_clip_01_03),
+        cmocka_unit_test(test_clip_turned_to_face_the_camera),
         cmocka_unit_test(test_retarget_refuses_a_skeleton_without_limbs),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

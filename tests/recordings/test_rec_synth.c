@@ -172,6 +172,7 @@ static void test_motion_capture_clip_is_recorded(void **state)
     assert_non_null(m);
     assert_int_equal(fit_bvh_load(bvh, &b, err, sizeof err), 0);
     assert_int_equal(fit_clip_from_bvh(b, m, &c, err, sizeof err), 0);
+    fit_clip_face_camera(c); /* tryon-synth's default: the person enters facing the camera */
     fit_pose p;
     fit_clip_eval(c, 2.0 / 30.0, &p);
     for (int k = 0; k < 3; k++)
