@@ -440,9 +440,9 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
                         have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
         if (o->scores && gt && r.vertices)
-            fprintf(o->scores, "%s %d %d %u %.2f %.2f %.3f %.3f %.2f %d\n", name, k, r.state,
+            fprintf(o->scores, "%s %d %d %u %.2f %.2f %.3f %.3f %.2f %d %d\n", name, k, r.state,
                     r.doubt, 1000.0 * err[0], 1000.0 * err[1], r.explained, r.free_space,
-                    r.residual_mm, r.unexplained_cluster);
+                    r.residual_mm, r.unexplained_cluster, view);
 #ifdef BENCH_FIT_CLOTH
         if (gt && r.vertices)
             cloth_frame(&cloth, &cloth_off, o, &r, &gt[k], truth, tv, &s, tot);
@@ -499,7 +499,8 @@ static void usage(FILE *f)
             "on the fitted and on the true body for cloth_vs_truth_mm, N vertices (0, the\n"
             "default: not dressed, the field -1; the two sims take about 60 ms of CPU a frame\n"
             "with 600). --scores FILE: one line per scored frame, 'recording frame state doubt\n"
-            "surface_mm joints_mm explained free_space residual_mm unexplained_cluster'.\n"
+            "surface_mm joints_mm explained free_space residual_mm unexplained_cluster\n"
+            "in_view' (in_view 1: every true joint inside the image and the camera's range).\n"
             "--true-shape: fit with the recording's true shape, held (the pose's share of the\n"
             "error, a diagnosis); --true-shape-except K: the same with parameter K (0..8,\n"
             "fit_shape order) the average preset's (what that parameter's error costs).\n"
