@@ -679,17 +679,6 @@ int main(int argc, char **argv)
         return pr > 0 ? usage(stdout, 0) : usage(stderr, 2);
     }
     char err[512], channel_body[BUS_CHANNEL_MAX];
-    tryon_keep_heap();
-    if (a.rehearse) { /* kept as the garment replaced: the first one takes its body state */
-        double t0 = tryon_now_ms();
-        a.replaced = sim_rehearse(&a.outfit, &a.desc, a.verts, err, sizeof err);
-        if (!a.replaced)
-            fprintf(stderr, "tryon-sim: no rehearsal (%s); the first garment takes fresh memory\n",
-                    err);
-        else
-            fprintf(stderr, "tryon-sim: rehearsed the garment on a stand-in body in %.0f ms\n",
-                    tryon_now_ms() - t0);
-    }
     sim_topologies_init(&a.topo, a.desc.max_body_vertices, a.desc.max_body_triangles);
     a.lcm = bus_open(NULL, err, sizeof err);
     if (!a.lcm) {
@@ -706,6 +695,17 @@ int main(int argc, char **argv)
         fprintf(stderr, "tryon-sim: cannot subscribe to %s\n", channel_body);
         lcm_destroy(a.lcm);
         return 1;
+    }
+    tryon_keep_heap();
+    if (a.rehearse) { /* kept as the garment replaced: the first one takes its body state */
+        double t0 = tryon_now_ms();
+        a.replaced = sim_rehearse(&a.outfit, &a.desc, a.verts, err, sizeof err);
+        if (!a.replaced)
+            fprintf(stderr, "tryon-sim: no rehearsal (%s); the first garment takes fresh memory\n",
+                    err);
+        else
+            fprintf(stderr, "tryon-sim: rehearsed the garment on a stand-in body in %.0f ms\n",
+                    tryon_now_ms() - t0);
     }
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);

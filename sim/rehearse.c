@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "bodyfit.h"
+#include "outfit_pattern.h"
 
 sim *sim_rehearse(const sim_outfit *worn, const sim_desc *desc, int verts, char *err,
                   size_t err_size)
@@ -41,6 +42,8 @@ sim *sim_rehearse(const sim_outfit *worn, const sim_desc *desc, int verts, char 
     sim_desc d = *desc;
     d.backend = SIM_BACKEND_C; /* the host's memory is what is rehearsed */
     d.fabric = o.fabric;
+    if (worn->is_pattern) /* the pattern's contact thickness, or its sim takes nothing */
+        d.thickness_m = sim_pattern_thickness_m();
     s = sim_create(&d, &g, &why);
     if (!s || sim_start(s, xyz, nv, tris, nt, NULL, &why) < 0 ||
         sim_step(s, xyz, nv, tris, nt, NULL, &why) < 0) {

@@ -195,8 +195,10 @@ sim *sim_create(const sim_desc *desc, const sim_garment *garment, sim_reject *wh
 void sim_destroy(sim *s);
 /* A garment made again on the body another sim (being replaced) has: s takes from's body
  * collision state (the body's tree and adjacency, built once per body topology) instead of
- * building its own on its first frame; from keeps s's empty one. Both on the C backend with the
- * same body limits and contact settings, else nothing is taken. 0, or -1 (nothing changed). */
+ * building its own on its first frame; from keeps s's empty one. A body of another topology
+ * (tryon-sim's rehearsal on a stand-in body) is then built in the arrays taken. Both on the C
+ * backend with the same body limits and contact settings, else nothing is taken. 0, or -1
+ * (nothing changed). */
 int sim_take_body(sim *s, sim *from);
 
 /* The garment as made, for the body it was made on, before any sim_step: the body's collision
