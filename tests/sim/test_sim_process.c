@@ -176,6 +176,9 @@ static void test_sim_process_publishes_cloth_and_survives_bad_bodies(void **stat
                 strstr(log, "SIM_ERR_DEGENERATE"));
     assert_non_null(strstr(log, "has no vertices"));
     assert_non_null(strstr(log, "1 BODY messages dropped"));
+    /* before it listened, the garment was made once on a stand-in body (--rehearse on) */
+    const char *rehearsed = strstr(log, "rehearsed the garment on a stand-in body");
+    assert_true(rehearsed && rehearsed < strstr(log, "waiting for"));
     /* the summary of the cloth published: as many frames inside as the CLOTH messages said (at
        least as many where a CLOTH went out after the test stopped listening) */
     const char *sum = strstr(log, "cloth as published: "), *sim = strstr(log, "frames simulated");
@@ -273,7 +276,7 @@ static void test_sim_process_stats_file(void **state)
     const char *path = "test_sim_process_stats.csv"; /* in the test's build folder */
     session_start(&s, "stats",
                   (char *[]){"--backend", "c", "--verts", "400", "--queue", "all", "--stats",
-                             (char *)path, "--settle-floor", "1000", NULL});
+                             (char *)path, "--settle-floor", "1000", "--rehearse", "off", NULL});
     for (int k = 0; k < 5; k++) {
         send_body(s.lcm, s.ch_body, s.sc, s.seq++, 0);
         lcm_handle_timeout(s.lcm, 100);
@@ -312,6 +315,7 @@ static void test_sim_process_stats_file(void **state)
             said--;
         still = atoi(said);
     }
+    assert_null(strstr(log, "rehearsed")); /* --rehearse off */
     free(log);
     assert_int_equal(still, rows - 1);
 }
