@@ -685,18 +685,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "tryon-sim: %s\n", err);
         return 1;
     }
-    bus_channel(BUS_CHANNEL_BODY, channel_body, sizeof channel_body);
-    bus_channel(BUS_CHANNEL_CLOTH, a.channel_cloth, sizeof a.channel_cloth);
-    bus_sub *sub = bus_subscribe(a.lcm, channel_body, BUS_BODY, on_body, &a);
-    char channel_control[BUS_CHANNEL_MAX];
-    bus_channel(BUS_CHANNEL_CONTROL, channel_control, sizeof channel_control);
-    bus_sub *control_sub = bus_subscribe(a.lcm, channel_control, BUS_CONTROL, on_control, &a);
-    if (!sub || !control_sub) {
-        fprintf(stderr, "tryon-sim: cannot subscribe to %s\n", channel_body);
-        lcm_destroy(a.lcm);
-        return 1;
-    }
     tryon_keep_heap();
+    /* before subscribing: bodies sent meanwhile are not kept (a backlog for --queue all) */
     if (a.rehearse) { /* kept as the garment replaced: the first one takes its body state */
         double t0 = tryon_now_ms();
         a.replaced = sim_rehearse(&a.outfit, &a.desc, a.verts, err, sizeof err);
@@ -706,6 +696,18 @@ int main(int argc, char **argv)
         else
             fprintf(stderr, "tryon-sim: rehearsed the garment on a stand-in body in %.0f ms\n",
                     tryon_now_ms() - t0);
+    }
+    bus_channel(BUS_CHANNEL_BODY, channel_body, sizeof channel_body);
+    bus_channel(BUS_CHANNEL_CLOTH, a.channel_cloth, sizeof a.channel_cloth);
+    bus_sub *sub = bus_subscribe(a.lcm, channel_body, BUS_BODY, on_body, &a);
+    char channel_control[BUS_CHANNEL_MAX];
+    bus_channel(BUS_CHANNEL_CONTROL, channel_control, sizeof channel_control);
+    bus_sub *control_sub = bus_subscribe(a.lcm, channel_control, BUS_CONTROL, on_control, &a);
+    if (!sub || !control_sub) {
+        fprintf(stderr, "tryon-sim: cannot subscribe to %s\n", channel_body);
+        sim_destroy(a.replaced);
+        lcm_destroy(a.lcm);
+        return 1;
     }
     struct sigaction sa = {.sa_handler = on_signal};
     sigaction(SIGINT, &sa, NULL);
