@@ -34,6 +34,8 @@ typedef struct totals {
     double *sub[3]; /* this thread's CPU ms in segment, fit, skin (fit_result.cpu_ms_*) */
     int nsub[3], cap_sub[3];
     double surface_sum, joints_sum, jitter_sq;
+    double view_surface_sum, view_joints_sum; /* over the frames with the person in view */
+    int view_scored;
     double *surface;
     int nsurface, cap_surface;
     int scored, jitter_n, in_view, tracked_in_view, recover_max, recover_n;
@@ -439,6 +441,10 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         if (gt && r.vertices)
             score_frame(&r, &gt[k], have_prev && k > 0 ? &gt[k - 1] : NULL,
                         have_prev ? prev_joints : NULL, truth, tv, tn, fn, &s, tot, err);
+        if (view && err[0] >= 0.0) {
+            tot->view_surface_sum += err[0], tot->view_joints_sum += err[1];
+            tot->view_scored++;
+        }
         if (o->scores && gt && r.vertices)
             fprintf(o->scores, "%s %d %d %u %.2f %.2f %.3f %.3f %.2f %d %d\n", name, k, r.state,
                     r.doubt, 1000.0 * err[0], 1000.0 * err[1], r.explained, r.free_space,
@@ -500,7 +506,8 @@ static void usage(FILE *f)
             "default: not dressed, the field -1; the two sims take about 60 ms of CPU a frame\n"
             "with 600). --scores FILE: one line per scored frame, 'recording frame state doubt\n"
             "surface_mm joints_mm explained free_space residual_mm unexplained_cluster\n"
-            "in_view' (in_view 1: every true joint inside the image and the camera's range).\n"
+            "in_view' (in_view 1: every true joint inside the image and the camera's range;\n"
+            "the JSON line's surface_mm_in_view and joints_mm_in_view are over those frames).\n"
             "--true-shape: fit with the recording's true shape, held (the pose's share of the\n"
             "error, a diagnosis); --true-shape-except K: the same with parameter K (0..8,\n"
             "fit_shape order) the average preset's (what that parameter's error costs).\n"
@@ -592,6 +599,7 @@ int main(int argc, char **argv)
            "\"doubted_frames\":%d,\"bad_frames\":%d,\"bad_tracking_frames\":%d,"
            "\"cloth_vs_truth_mm\":%.2f,\"cloth_vertices\":%d,"
            "\"frame_iterations_max\":%d,\"frame_shape_steps_max\":%d,\"first_ms_max\":%.3f,"
+           "\"in_view_frames\":%d,\"surface_mm_in_view\":%.2f,\"joints_mm_in_view\":%.2f,"
            "\"backend\":\"c\",\"device\":\"cpu-1-core\"}\n",
            quantile(tot.ms, tot.nms, 0.5), quantile(tot.ms, tot.nms, 0.95),
            quantile(tot.cpu, tot.ncpu, 0.5), quantile(tot.cpu, tot.ncpu, 0.95),
@@ -608,7 +616,10 @@ int main(int argc, char **argv)
            d.fit_vertices ? d.fit_vertices : 1500, tot.nms, failed, scored ? tot.doubted : -1,
            scored ? tot.bad : -1, scored ? tot.bad - tot.bad_flagged : -1,
            tot.cloth_n ? 1000.0 * tot.cloth_sum / tot.cloth_n : -1.0, o.cloth_vertices,
-           tot.iterations_max, tot.shape_steps_max, o.first ? tot.first_ms_max : -1.0);
+           tot.iterations_max, tot.shape_steps_max, o.first ? tot.first_ms_max : -1.0,
+           scored ? tot.view_scored : -1,
+           tot.view_scored ? 1000.0 * tot.view_surface_sum / tot.view_scored : -1.0,
+           tot.view_scored ? 1000.0 * tot.view_joints_sum / tot.view_scored : -1.0);
     if (o.scores && fclose(o.scores)) {
         fprintf(stderr, "tryon-bench-fit: --scores %s: write failed\n", o.scores_path);
         failed++;

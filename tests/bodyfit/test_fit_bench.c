@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include <cmocka.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,12 @@ static void test_fit_bench_scores_and_writes(void **state)
     assert_true(json_field(json, "tracked_fraction") == 1.0);
     assert_true(json_field(json, "frames") == 4.0);
     assert_true(json_field(json, "cloth_vs_truth_mm") == -1.0); /* not asked for */
+    /* the person in view in every frame: the errors over those are the errors over all */
+    assert_true(json_field(json, "in_view_frames") == 4.0);
+    assert_true(fabs(json_field(json, "surface_mm_in_view") - json_field(json, "surface_mm")) <
+                0.011);
+    assert_true(fabs(json_field(json, "joints_mm_in_view") - json_field(json, "joints_mm")) <
+                0.011);
     free(text);
     /* --scores: a line per frame, its errors those of the JSON line's range */
     text = ts_read_file(scores);
