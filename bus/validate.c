@@ -118,7 +118,8 @@ static int validate_cloth(const tryon_cloth_t *m, bus_reject *why)
     int se = check_string(m->garment_id, "garment_id", why);
     if (se != BUS_OK)
         return se;
-    if (m->state < TRYON_CLOTH_T_STATE_OK || m->state > TRYON_CLOTH_T_STATE_SETTLING)
+    /* every state cloth_t.lcm names, CARRIED the last (the sim's sim_state values) */
+    if (m->state < TRYON_CLOTH_T_STATE_OK || m->state > TRYON_CLOTH_T_STATE_CARRIED)
         return bus_reject_set(why, BUS_ERR_RANGE, "state %d", (int)m->state);
     const float f[3] = {m->max_strain, m->p99_strain, m->max_pen_mm};
     int e = check_floats(f, 3, 0, "max_strain,p99_strain,max_pen_mm", 3, why);

@@ -245,6 +245,14 @@ static void drop_sim(app *a)
     a->diverged_run = 0;
 }
 
+/* CLOTH's state is the frame's sim_state, value for value (bus/cloth_t.lcm) */
+_Static_assert(SIM_STATE_OK == TRYON_CLOTH_T_STATE_OK &&
+                   SIM_STATE_RECOVERED == TRYON_CLOTH_T_STATE_RECOVERED &&
+                   SIM_STATE_DIVERGED == TRYON_CLOTH_T_STATE_DIVERGED &&
+                   SIM_STATE_SETTLING == TRYON_CLOTH_T_STATE_SETTLING &&
+                   SIM_STATE_CARRIED == TRYON_CLOTH_T_STATE_CARRIED,
+               "sim_state and cloth_t's states differ");
+
 static void publish(app *a, const pending_body *b, const sim_frame_stats *st, bus_timing *t)
 {
     sim_copy_positions(a->sim, a->xyz);

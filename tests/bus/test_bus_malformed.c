@@ -172,6 +172,29 @@ static void test_out_of_range_triangle_index_is_rejected(void **state)
     fx_cloth_free(&c);
 }
 
+/* Every state cloth_t names is sent and taken (a carried frame once went unsent: the sim's
+ * CARRIED was out of the checked range); one past them is refused. */
+static void test_every_cloth_state_is_accepted(void **state)
+{
+    (void)state;
+    fx_cloth c;
+    fx_cloth_make(&c, 20, 10, 6);
+    bus_reject why;
+    const int8_t states[] = {TRYON_CLOTH_T_STATE_OK, TRYON_CLOTH_T_STATE_RECOVERED,
+                             TRYON_CLOTH_T_STATE_DIVERGED, TRYON_CLOTH_T_STATE_SETTLING,
+                             TRYON_CLOTH_T_STATE_CARRIED};
+    for (size_t i = 0; i < sizeof states; i++) {
+        c.msg.state = states[i];
+        assert_int_equal(bus_validate(BUS_CLOTH, &c.msg, &why), BUS_OK);
+    }
+    c.msg.state = TRYON_CLOTH_T_STATE_CARRIED + 1;
+    assert_int_equal(bus_validate(BUS_CLOTH, &c.msg, &why), -BUS_ERR_RANGE);
+    assert_non_null(strstr(why.detail, "state 5"));
+    c.msg.state = -1;
+    assert_int_equal(bus_validate(BUS_CLOTH, &c.msg, &why), -BUS_ERR_RANGE);
+    fx_cloth_free(&c);
+}
+
 static void test_wrong_type_and_trailing_bytes_are_rejected(void **state)
 {
     (void)state;
@@ -309,6 +332,7 @@ int main(void)
         cmocka_unit_test(test_wrong_type_and_trailing_bytes_are_rejected),
         cmocka_unit_test(test_depth_frame_checks),
         cmocka_unit_test(test_timing_checks),
+        cmocka_unit_test(test_every_cloth_state_is_accepted),
         cmocka_unit_test(test_subscriber_counts_rejections_and_keeps_serving),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
