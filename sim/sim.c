@@ -655,6 +655,15 @@ int sim_start(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, i
     return 0;
 }
 
+/* A live frame's deadline (sim_desc.frame_budget_ms) leaves no time for another attempt twice
+   as long as the last (started at ta; t0: the frame's start; now: its end). A garment's first
+   step has no deadline. */
+static int frame_spent(const sim *s, double t0, double ta, double now)
+{
+    return s->desc.frame_budget_ms > 0.0f && s->frame > 0 &&
+           (now - t0) + 2.0 * (now - ta) > (double)s->desc.frame_budget_ms;
+}
+
 int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
              sim_frame_stats *st, sim_reject *why)
 {
@@ -716,6 +725,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
             break; /* an earlier attempt was nearer the goals: it is published below */
         /* restore the last good state and retry with smaller steps */
         restore_good(s);
+        if (!good && frame_spent(s, t0, ta, spent))
+            break; /* no time for a retry twice as long: the frame is carried (below) */
         if (attempt < SIM_MAX_RETRIES) {
             st->retries++;
             st->strain_retries += good;

@@ -94,7 +94,9 @@ typedef struct sim_desc {
      * what the time left allows (from what the last frames cost: the first frame has no cut),
      * a strain retry is started only as retry_budget_ms says, and a frame cut short is published
      * as it stands, its strain measured, state SIM_STATE_SETTLING. A diverged attempt is retried
-     * whatever the budget. docs/sim.md, "tryon-sim". */
+     * only while a retry twice as long fits in the time left; past that the frame is carried
+     * (the garment as made, carried onto the body: SIM_STATE_CARRIED), or where it cannot be,
+     * the last good cloth kept (SIM_STATE_DIVERGED). docs/sim.md, "tryon-sim". */
     float frame_budget_ms;
     int max_body_vertices;  /* 0 = 100000 */
     int max_body_triangles; /* 0 = 200000 */

@@ -124,6 +124,38 @@ static void test_sim_budget_too_small_publishes_as_it_stands(void **state)
 
 /* A budget no frame reaches (1,000 s) is no budget: the same cloth and statistics bit for bit,
  * settle rounds and all. A NaN budget is refused. */
+/* A diverged frame past its deadline is not retried: it is carried (the garment as made, carried
+ * onto the body), finite, and the next frame goes on; with time left, or without a deadline, it
+ * is retried and recovered as before. Both backends. */
+static void test_sim_budget_spent_carries_a_diverged_frame(void **state)
+{
+    (void)state;
+    sim_backend bs[2];
+    int n = simt_backends(bs);
+    for (int k = 0; k < n; k++) {
+        for (int with_budget = 0; with_budget <= 1; with_budget++) {
+            sim_scene *sc;
+            sim *s = walk_shirt(bs[k], with_budget ? 1e-3f : 0.0f, &sc);
+            sim_frame_stats st;
+            for (int f = 0; f < 5; f++)
+                step(s, sc, f, &st);
+            sim_debug_set_vertex(s, 30, NAN, 0.0f, 0.0f);
+            step(s, sc, 5, &st);
+            printf("# %s, %s: a NaN: state %s, retries %d\n", simt_backend_name(bs[k]),
+                   with_budget ? "a 1 us budget" : "no budget", sim_state_name(st.state),
+                   st.retries);
+            assert_int_equal(st.state, with_budget ? SIM_STATE_CARRIED : SIM_STATE_RECOVERED);
+            assert_true(with_budget ? st.retries == 0 : st.retries >= 1);
+            assert_true(simt_all_finite(s));
+            step(s, sc, 6, &st);
+            assert_true(st.state != SIM_STATE_DIVERGED);
+            assert_true(simt_all_finite(s));
+            sim_destroy(s);
+            sim_scene_destroy(sc);
+        }
+    }
+}
+
 static void test_sim_budget_never_reached_changes_nothing(void **state)
 {
     (void)state;
@@ -370,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_queue_of_two_absorbs_an_overrun),
         cmocka_unit_test(test_sim_budget_too_small_publishes_as_it_stands),
         cmocka_unit_test(test_sim_budget_never_reached_changes_nothing),
+        cmocka_unit_test(test_sim_budget_spent_carries_a_diverged_frame),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
