@@ -655,13 +655,18 @@ int sim_start(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, i
     return 0;
 }
 
-/* A live frame's deadline (sim_desc.frame_budget_ms) leaves no time for another attempt twice
-   as long as the last (started at ta; t0: the frame's start; now: its end). A garment's first
+/* A budget (ms, 0: none) leaves no time for another attempt twice as long as the last (started
+   at ta; t0: the frame's start; now: that attempt's end). */
+static int no_time_for_retry(double budget, double t0, double ta, double now)
+{
+    return budget > 0.0 && (now - t0) + 2.0 * (now - ta) > budget;
+}
+
+/* A live frame's deadline (sim_desc.frame_budget_ms) is spent for a retry; a garment's first
    step has no deadline. */
 static int frame_spent(const sim *s, double t0, double ta, double now)
 {
-    return s->desc.frame_budget_ms > 0.0f && s->frame > 0 &&
-           (now - t0) + 2.0 * (now - ta) > (double)s->desc.frame_budget_ms;
+    return s->frame > 0 && no_time_for_retry(s->desc.frame_budget_ms, t0, ta, now);
 }
 
 int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, int nt,
@@ -704,7 +709,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
         late |= good && settle_cut(st, allowed, max_strain);
         /* no time left for a retry twice as long as this attempt: publish the nearest so far */
         double spent = now_ms();
-        int no_time = budget > 0.0 && (spent - t0) + 2.0 * (spent - ta) > budget;
+        int no_time = no_time_for_retry(budget, t0, ta, spent);
         late |= good && no_time && excess > 1.0f && strain_retry && attempt < SIM_MAX_RETRIES &&
                 s->desc.frame_budget_ms > 0.0f;
         if (good && (!(excess > 1.0f) || !strain_retry || attempt == SIM_MAX_RETRIES || no_time) &&
