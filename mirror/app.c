@@ -110,7 +110,7 @@ static void warm_up(mirror_app *a)
     char err[512];
     int w, h, direct = choose_target(a, &w, &h);
     int64_t t0 = bus_now_mono_us();
-    if (mirror_warm_up(a->renderer, err, sizeof err) < 0) {
+    if (mirror_warm_up(a->renderer, a->ring, err, sizeof err) < 0) {
         fprintf(stderr, "tryon-mirror: warm-up draw: %s; the first frame compiles instead\n", err);
         return;
     }

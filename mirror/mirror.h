@@ -71,8 +71,11 @@ void mirror_renderer_draw_to_window(mirror_renderer *r, int window);
 int mirror_render(mirror_renderer *r, const mirror_view *v, char *err, size_t err_size);
 /* Draws a scene holding everything a frame may draw (person, arm, fit-map garment, body,
  * overlay) into the target above, so that llvmpipe compiles its shaders before the first real
- * frame (mirror/warmup.c). Returns 0 or -MIRROR_ERR_x with err filled. */
-int mirror_warm_up(mirror_renderer *r, char *err, size_t err_size);
+ * frame (mirror/warmup.c). With a ring, its depth frame also fills every slot of it (the
+ * buffers of a camera's frames allocated and touched now), and the ring then forgets it.
+ * Returns 0 or -MIRROR_ERR_x with err filled. */
+typedef struct mirror_ring mirror_ring;
+int mirror_warm_up(mirror_renderer *r, mirror_ring *ring, char *err, size_t err_size);
 /* The last picture (from where it was drawn), rows top to bottom, RGB: width * height * 3. */
 int mirror_read_rgb(mirror_renderer *r, uint8_t *rgb);
 /* Copies the picture to framebuffer 0 (a window's back buffer). */
@@ -132,7 +135,6 @@ int mirror_text(uint8_t *rgba, int width, int height, int x, int y, int scale, c
 
 /* The depth frames kept so that each CLOTH is drawn with the DEPTH it came from. */
 #define MIRROR_RING 8
-typedef struct mirror_ring mirror_ring;
 mirror_ring *mirror_ring_create(void);
 void mirror_ring_destroy(mirror_ring *r);
 /* Copies the frame in, replacing the oldest. Returns 0 or -MIRROR_ERR_NO_MEMORY. */
@@ -140,6 +142,8 @@ int mirror_ring_push(mirror_ring *r, const mirror_depth *d);
 /* The frame with this utime_capture; else the newest older one (*exact = 0); NULL if none. */
 const mirror_depth *mirror_ring_find(const mirror_ring *r, int64_t utime_capture, int *exact);
 const mirror_depth *mirror_ring_newest(const mirror_ring *r);
+/* Every frame forgotten; the slots' buffers are kept for the next frames. */
+void mirror_ring_forget(mirror_ring *r);
 
 /* Per-vertex strain for the fit map: edge lengths of a garment's first frame are its rest
  * lengths (the sim makes a garment at rest around the body); each vertex gets the largest

@@ -82,3 +82,10 @@ const mirror_depth *mirror_ring_newest(const mirror_ring *r)
     int i = (r->next + MIRROR_RING - 1) % MIRROR_RING;
     return r->s[i].used ? &r->s[i].d : NULL;
 }
+
+void mirror_ring_forget(mirror_ring *r)
+{
+    for (int i = 0; i < MIRROR_RING; i++)
+        r->s[i].used = 0;
+    r->next = 0;
+}

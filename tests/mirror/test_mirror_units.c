@@ -76,6 +76,39 @@ static void test_ring_makes_each_frames_person_image(void **state)
     mirror_ring_destroy(r);
 }
 
+/* The warm-up fills every slot and then forgets the frames: nothing is found afterwards, and the
+ * next frames land in the buffers it allocated (a slot's first frame touches fresh pages). */
+static void test_ring_forgets_frames_and_keeps_buffers(void **state)
+{
+    (void)state;
+    mirror_ring *r = mirror_ring_create();
+    assert_non_null(r);
+    uint16_t px[64 * 48] = {0};
+    const uint16_t *kept[MIRROR_RING];
+    for (int k = 0; k < MIRROR_RING; k++) {
+        mirror_depth d = frame(1000 * (k + 1), px);
+        assert_int_equal(mirror_ring_push(r, &d), 0);
+        kept[k] = mirror_ring_newest(r)->data;
+    }
+    mirror_ring_forget(r);
+    int exact;
+    assert_null(mirror_ring_newest(r));
+    assert_null(mirror_ring_find(r, 1000 * MIRROR_RING, &exact));
+    assert_null(mirror_ring_find(r, INT64_MAX, &exact)); /* not even an older one */
+    for (int k = 0; k < MIRROR_RING; k++) {
+        px[0] = (uint16_t)(k + 100);
+        mirror_depth d = frame(50000 + k, px);
+        assert_int_equal(mirror_ring_push(r, &d), 0);
+        const mirror_depth *n = mirror_ring_newest(r);
+        assert_ptr_equal(n->data, kept[k]);
+        assert_int_equal(n->data[0], k + 100);
+        assert_non_null(n->person);
+    }
+    assert_int_equal(mirror_ring_find(r, 50000, &exact)->data[0], 100);
+    assert_true(exact);
+    mirror_ring_destroy(r);
+}
+
 static void test_strain_is_measured_from_the_first_frame(void **state)
 {
     (void)state;
@@ -279,6 +312,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ring_matches_cloth_to_its_depth_frame),
         cmocka_unit_test(test_ring_makes_each_frames_person_image),
+        cmocka_unit_test(test_ring_forgets_frames_and_keeps_buffers),
         cmocka_unit_test(test_strain_is_measured_from_the_first_frame),
         cmocka_unit_test(test_fit_map_colours),
         cmocka_unit_test(test_world_points_land_on_the_mirrored_pixel),
