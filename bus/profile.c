@@ -202,13 +202,19 @@ static int count_dropped(const int32_t *seq, int n)
     return dropped > INT32_MAX ? INT32_MAX : (int)dropped;
 }
 
-/* The latencies of the frames after the first `warmup` by seq, and the frames missing among
- * them (from the warm-up's end on). */
-static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
+static int32_t first_seq(const stage_samples *s)
 {
     int32_t first = s->n ? s->seq[0] : 0;
     for (int i = 1; i < s->n; i++)
         first = s->seq[i] < first ? s->seq[i] : first;
+    return first;
+}
+
+/* The latencies of the frames after the first `warmup` by seq, and the frames missing among
+ * them (from the warm-up's end on). */
+static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
+{
+    int32_t first = first_seq(s);
     double *lat = malloc((size_t)(s->n + 1) * sizeof *lat);
     int32_t *seq = malloc((size_t)(s->n + 1) * sizeof *seq);
     if (!lat || !seq) { /* out of memory: no steady figures rather than wrong ones */
@@ -233,12 +239,39 @@ static void steady_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
     free(seq);
 }
 
-static void stage_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
+/* The stage that hands this one every frame it makes, or NULL: capture's every DEPTH goes to the
+ * fitter, the sim's every CLOTH to the mirror; the fitter's BODY of nobody is not dressed, so
+ * the sim's first frame is the person's. */
+static const stage_samples *feeder(const bus_profile *p, const char *name)
+{
+    const char *from = !strcmp(name, "bodyfit") ? "capture" : !strcmp(name, "mirror") ? "sim" : 0;
+    for (int i = 0; from && i < p->num_stages; i++)
+        if (!strcmp(p->stages[i].name, from) && p->stages[i].n > 0)
+            return &p->stages[i];
+    return NULL;
+}
+
+/* Frames its feeder made before this stage's first one: never reached it (a mirror that drew
+ * its first CLOTH late superseded those before it), counted as dropped as gaps are. */
+static int dropped_before(const stage_samples *s, const stage_samples *from)
+{
+    if (!from || s->n == 0)
+        return 0;
+    int32_t first = first_seq(s);
+    int64_t lead = (int64_t)first - first_seq(from);
+    int missing = 0;
+    for (int i = 0; lead > 0 && lead <= BUS_PROFILE_MAX_GAP && i < from->n; i++)
+        missing += from->seq[i] < first;
+    return missing;
+}
+
+static void stage_stats(const stage_samples *s, const stage_samples *from, int warmup,
+                        bus_stage_stats *o)
 {
     memset(o, 0, sizeof *o);
     snprintf(o->stage, sizeof o->stage, "%s", s->name);
     o->frames = s->n;
-    o->dropped = count_dropped(s->seq, s->n);
+    o->dropped = count_dropped(s->seq, s->n) + dropped_before(s, from);
     double span_s = (double)(s->last_finish - s->first_finish) / 1e6;
     o->fps = (s->n > 1 && span_s > 0) ? (s->n - 1) / span_s : 0;
     sorted_percentiles(s->work_ms, s->n, &o->work_p50_ms, &o->work_p95_ms, &o->work_p99_ms,
@@ -246,6 +279,8 @@ static void stage_stats(const stage_samples *s, int warmup, bus_stage_stats *o)
     sorted_percentiles(s->lat_ms, s->n, &o->lat_p50_ms, &o->lat_p95_ms, &o->lat_p99_ms,
                        &o->lat_max_ms);
     steady_stats(s, warmup, o);
+    if (warmup == 0)
+        o->steady_dropped = o->dropped;
     o->num_substages = s->num_sub;
     for (int k = 0; k < s->num_sub; k++) {
         double p95, p99, max;
@@ -270,7 +305,7 @@ int bus_profile_stats(const bus_profile *p, bus_stage_stats *out, int max)
 {
     int n = p->num_stages < max ? p->num_stages : max;
     for (int i = 0; i < n; i++)
-        stage_stats(&p->stages[i], p->warmup, &out[i]);
+        stage_stats(&p->stages[i], feeder(p, p->stages[i].name), p->warmup, &out[i]);
     qsort(out, (size_t)n, sizeof *out, cmp_stats);
     return n;
 }

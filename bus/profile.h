@@ -14,8 +14,10 @@
 typedef struct bus_stage_stats {
     char stage[32];
     int frames;
-    int dropped; /* sequence numbers missing in gaps of at most BUS_PROFILE_MAX_GAP */
-    double fps;  /* frames per second of wall clock between the first and last finish */
+    /* sequence numbers missing in gaps of at most BUS_PROFILE_MAX_GAP, and for the fitter and
+       the mirror the frames capture or the sim made before their first */
+    int dropped;
+    double fps; /* frames per second of wall clock between the first and last finish */
     double work_p50_ms, work_p95_ms, work_p99_ms, work_max_ms; /* finished - started */
     double lat_p50_ms, lat_p95_ms, lat_p99_ms, lat_max_ms;     /* finished - utime_capture */
     /* after the warm-up (bus_profile_set_warmup): frames with seq from the stage's first seq +

@@ -69,6 +69,36 @@ static void test_profile_percentiles_drops_and_order(void **state)
     bus_profile_destroy(p);
 }
 
+/* The mirror's first CLOTH drawn late: the sim's frames before it never reached the screen and
+ * count as the mirror's drops; the sim's own first frames (bodies of nobody are not dressed) and
+ * its drops do not. */
+static void test_profile_counts_frames_missed_before_the_first(void **state)
+{
+    (void)state;
+    bus_profile *p = bus_profile_create();
+    for (int seq = 0; seq < 60; seq++) {
+        tryon_timing_t cap = report("capture", seq, 0.5, 0.5);
+        assert_int_equal(bus_profile_add(p, &cap), 0);
+        if (seq >= 10 && seq != 12) { /* the person from frame 10; body 12 superseded */
+            tryon_timing_t sim = report("sim", seq, 10.0, 20.0);
+            assert_int_equal(bus_profile_add(p, &sim), 0);
+        }
+        if (seq >= 14) { /* the sim's 10, 11 and 13 never drawn */
+            tryon_timing_t mirror = report("mirror", seq, 5.0, 30.0);
+            assert_int_equal(bus_profile_add(p, &mirror), 0);
+        }
+    }
+    bus_stage_stats st[3];
+    assert_int_equal(bus_profile_stats(p, st, 3), 3);
+    assert_string_equal(st[1].stage, "sim");
+    assert_int_equal(st[1].dropped, 1);
+    assert_string_equal(st[2].stage, "mirror");
+    assert_int_equal(st[2].frames, 46);
+    assert_int_equal(st[2].dropped, 3);
+    assert_int_equal(st[2].steady_dropped, 3); /* no warm-up: the whole session's */
+    bus_profile_destroy(p);
+}
+
 /* A warm-up: the first frames by seq are left out of the steady_ figures only; a drop right
  * after the warm-up counts, one inside it does not. */
 static void test_profile_warmup(void **state)
@@ -164,6 +194,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_profile_percentiles_drops_and_order),
+        cmocka_unit_test(test_profile_counts_frames_missed_before_the_first),
         cmocka_unit_test(test_profile_warmup),
         cmocka_unit_test(test_profile_reads_an_lcm_log_and_skips_corrupt_events),
     };
