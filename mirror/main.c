@@ -35,7 +35,7 @@ static void usage(FILE *f)
                "  --size WxH: the picture, default 640x480 (the window may be resized)\n"
                "  --frames N: exit after N frames drawn with a garment (0: run until stopped)\n"
                "  --queue N|latest: at most N CLOTH wait to be drawn, oldest first (1-4, default\n"
-               "          2); one arriving at a full queue supersedes the oldest. latest: 1\n"
+               "          3); one arriving at a full queue supersedes the oldest. latest: 1\n"
                "  --garment FILE: a garment file offered besides shirt and tunic (repeatable)\n"
                "  --fabric NAME: the fabric asked for over CONTROL (cotton, denim, jersey, silk)\n"
                "  keys: right/left garment, up/down size, o overlay, f fit map, b body, q quit\n"
