@@ -12,9 +12,9 @@
 #define MIRROR_VIDEO_FRAME_US   (1000000 / MIRROR_VIDEO_FPS)
 /* --queue's default: CLOTH waiting to be drawn, oldest first (bus/queue.h). With one, the newest
  * only, a person's entry (the sim catching up on a few bodies while the mirror, at niceness 5,
- * waits for a core) left 1-6 frames undrawn in every run; with two, 1 in 2 of 30 runs (the first
- * frame's PNG, headless, took 30 ms while three CLOTH came); with three, none in 8, at the same
- * latency (docs/mirror.md, "Figures today"). */
+ * waits for a core) left 1-6 frames undrawn in every run; two left one undrawn in 2 of 30 runs
+ * (headless, the first frame's PNG took 30 ms while three CLOTH came); three, none in 8, at the
+ * same latency (docs/mirror.md, "Figures today"). */
 #define MIRROR_APP_QUEUE 3
 
 typedef struct stage_latency {
