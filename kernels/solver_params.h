@@ -39,10 +39,13 @@ typedef struct sim_solver_params {
     sp_int support;            /* the support hierarchy on (a garment without attachments) */
     float settle_hold; /* above this strain the settle rounds do not stop for slow progress: the
                           frame's retry goal (sim_desc.retry_max_strain; 0: no retries) */
+    float settle_torn; /* at or over this strain the settle rounds stop: the attempt is torn, the
+                          driver's divergence test fails it whatever settling does (sim.c
+                          sim_torn_strain; 0: never) */
     float rest_tol;    /* m, SIM_REST_TOL_M (the last field: sim_solver_params_layout) */
 } sim_solver_params;
 
-#define SIM_SOLVER_PARAMS_FIELDS 28 /* 4-byte fields */
+#define SIM_SOLVER_PARAMS_FIELDS 29 /* 4-byte fields */
 
 #endif
 
@@ -129,15 +132,17 @@ static inline int sim_vertices_open(int b, int rep, const sim_solver_params *p)
 }
 
 /* SIM_STAGE_SETTLE_TEST's decision, 1 to stop the settle rounds: the largest stretch strain m is
-   within the settle goal, or, in a frame that does not refresh its contacts, the last batch did
+   within the settle goal; or, in a frame that does not refresh its contacts, the last batch did
    not take enough off it (prev: the test before; first: this is the frame's first test) while m
    is within the retry goal. Above that goal a frame stopped early is done again with twice the
    steps: the bends' frames take 1.5-3 % off a batch, at the progress bound, and reach the goal
-   in the rounds left (docs/sim.md, "Real motion: the bends' settle rounds"). */
+   in the rounds left (docs/sim.md, "Real motion: the bends' settle rounds"). Or m is over
+   settle_torn: the attempt has torn, the driver fails it whatever the rounds do, and they would
+   only spend the frame's time. */
 static inline int sim_settle_stop(float m, float prev, int first, int refresh,
                                   const sim_solver_params *p)
 {
     int hold = p->settle_hold > 0.0f && m > p->settle_hold;
-    return !(m > p->settle_strain) ||
+    return !(m > p->settle_strain) || (p->settle_torn > 0.0f && m > p->settle_torn) ||
            (!refresh && !first && !hold && !(m < p->settle_progress * prev));
 }

@@ -134,6 +134,18 @@ struct sim {
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CARRY_MAX_STRAIN    0.10f  /* a carried cloth stretched more is dressed again (carry) */
+/* A strain grown from the last good frame's (good): state_diverged's test. */
+static inline float sim_strain_grown(float good)
+{
+    return 1.05f * good + 0.01f;
+}
+/* An attempt over this strain has torn: past SIM_DIVERGE_STRAIN and grown, state_diverged fails
+   it (sim_solver_params.settle_torn: its settle rounds stop there). */
+static inline float sim_torn_strain(float good)
+{
+    float g = sim_strain_grown(good);
+    return g > SIM_DIVERGE_STRAIN ? g : SIM_DIVERGE_STRAIN;
+}
 /* tryon: the strain goals a frame is retried for (sim_desc.retry_max_strain, retry_p99_strain) */
 #define SIM_RETRY_STRAIN   0.03f
 #define SIM_RETRY_P99      0.01f

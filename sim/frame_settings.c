@@ -42,6 +42,7 @@ void sim_solver_params_fill(const struct sim *s, int iters, sim_solver_params *p
     p->settle_hold = s->desc.solver == SIM_SOLVER_TRYON && s->desc.retry_max_strain > 0.0f
                          ? s->desc.retry_max_strain
                          : 0.0f;
+    p->settle_torn = s->desc.solver == SIM_SOLVER_TRYON ? sim_torn_strain(s->strain_good) : 0.0f;
     p->rest_tol = SIM_REST_TOL_M;
 }
 

@@ -420,7 +420,7 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
         too_fast |= v2 > max_step2 || f2 > max_frame2;
     }
     sim_strain_stats(c, s->scratch, max_strain, p99_strain);
-    int growing = *max_strain > 1.05f * s->strain_good + 0.01f;
+    int growing = *max_strain > sim_strain_grown(s->strain_good);
     /* relaxing from a real stretch (a percent at least): at rest, strains of 1e-7 are rounding,
        and a cloth in free fall "relaxed" from 9e-7 to 2e-7 while falling 5 km in a frame */
     int relaxing = s->strain_good > 0.01f && *max_strain < 0.9f * s->strain_good;

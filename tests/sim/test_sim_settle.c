@@ -45,6 +45,23 @@ static void test_settle_stop_holds_over_the_retry_goal(void **state)
     assert_int_equal(sim_settle_stop(0.05f, 0.05f / slow, 0, 1, &free), 0);
 }
 
+/* A torn attempt (over settle_torn) stops its rounds at once, held or first test alike; under
+   that bound the rules above decide; the settings' bound is the divergence test's, past
+   SIM_DIVERGE_STRAIN and grown from the last good frame's strain. */
+static void test_settle_stops_when_torn(void **state)
+{
+    (void)state;
+    sim_solver_params held = settings(SIM_RETRY_STRAIN);
+    held.settle_torn = sim_torn_strain(0.1f);
+    assert_true(held.settle_torn == SIM_DIVERGE_STRAIN);
+    assert_int_equal(sim_settle_stop(0.8f, 0.9f, 1, 1, &held), 1);
+    assert_int_equal(sim_settle_stop(0.8f, 0.9f, 0, 0, &held), 1);
+    assert_int_equal(sim_settle_stop(0.45f, 0.9f, 0, 0, &held), 0);
+    held.settle_torn = 0.0f; /* never: the seed solver */
+    assert_int_equal(sim_settle_stop(0.8f, 0.9f, 1, 1, &held), 0);
+    assert_true(sim_torn_strain(0.6f) > 0.6f * 1.05f);
+}
+
 /* The frame's settings carry the desc's retry goal, none when retries are off. */
 static void test_settings_take_the_retry_goal(void **state)
 {
@@ -55,6 +72,7 @@ static void test_settings_take_the_retry_goal(void **state)
     sim_solver_params p;
     sim_solver_params_fill(s, 25, &p);
     assert_true(p.settle_hold == SIM_RETRY_STRAIN);
+    assert_true(p.settle_torn == sim_torn_strain(0.0f));
     sim_destroy(s);
     d.retry_max_strain = d.retry_p99_strain = -1.0f;
     s = simt_drape(SIM_BACKEND_C, SIM_SOLVER_TRYON, 8, &d);
@@ -119,6 +137,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_settle_stop_holds_over_the_retry_goal),
+        cmocka_unit_test(test_settle_stops_when_torn),
         cmocka_unit_test(test_settings_take_the_retry_goal),
         cmocka_unit_test(test_frames_over_the_goal_run_every_round),
     };
