@@ -112,9 +112,14 @@ struct fit_model {
     uint8_t *wjoint;
     float *weight;
     fit_measurements meas;
-    /* The mesh was reshaped after the field was built (fit_shape_base_apply): the field's
-     * primitives no longer match the skin, and posing skips the contact pass. */
-    int field_stale;
+    /* The mesh reshaped after the field was built (fit_shape_base_apply, the tracker's learnt
+     * shape): per joint, the map from the reshaped rest space back to the field's (3x4
+     * row-major, the inverse of the reshaping's affine map for that joint) and the girth offset
+     * its part gained (m), through which the contact pass measures the field. 0: not reshaped
+     * (the maps are not used). */
+    int reshaped;
+    float unshape[FIT_JOINT_COUNT][12];
+    float unshape_offset[FIT_JOINT_COUNT];
 };
 
 /* Rodrigues' formula (skin.c): the rotation matrix (row-major) of an axis-angle vector. */

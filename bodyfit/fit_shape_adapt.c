@@ -160,6 +160,39 @@ static void maps_init(const fit_shape_base *b, const fit_shape_q *q, shape_maps 
     }
 }
 
+/* The inverse of joint_map, which is affine (each step above scales, shears or shifts), as a
+ * 3x4 row-major matrix: the map's columns read off at the origin and the unit axes, inverted. */
+static void unshape_of(const shape_maps *s, int joint, float out[12])
+{
+    const float zero[3] = {0.0f, 0.0f, 0.0f};
+    float o[3], a[3][3];
+    joint_map(s, joint, zero, o);
+    for (int k = 0; k < 3; ++k) {
+        float e[3] = {0.0f, 0.0f, 0.0f}, x[3];
+        e[k] = 1.0f;
+        joint_map(s, joint, e, x);
+        for (int r = 0; r < 3; ++r)
+            a[r][k] = x[r] - o[r];
+    }
+    double inv[3][3];
+    double det = (double)a[0][0] * ((double)a[1][1] * a[2][2] - (double)a[1][2] * a[2][1]) -
+                 (double)a[0][1] * ((double)a[1][0] * a[2][2] - (double)a[1][2] * a[2][0]) +
+                 (double)a[0][2] * ((double)a[1][0] * a[2][1] - (double)a[1][1] * a[2][0]);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+            inv[r][c] = ((double)a[r1][c1] * a[r2][c2] - (double)a[r1][c2] * a[r2][c1]) / det;
+        }
+    for (int r = 0; r < 3; ++r) {
+        double t = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            out[r * 4 + c] = (float)inv[r][c];
+            t -= inv[r][c] * o[c];
+        }
+        out[r * 4 + 3] = (float)t;
+    }
+}
+
 void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, const fit_shape_q *q)
 {
     shape_maps s;
@@ -182,15 +215,18 @@ void fit_shape_base_apply(const fit_shape_base *b, fit_model *m, const fit_shape
     }
     for (int j = 0; j < FIT_JOINT_COUNT; ++j)
         joint_map(&s, j, b->joint[j], m->sk.joint[j]);
-    /* The implicit primitives keep the base shape: the contact pass (skin_contact.c) would
-       measure the reshaped skin against them (measured: 60 mm moves with the arms down at a 4 %
-       taller, 8 % broader-chested shape, 23 mm on the shape itself), so it is off until they
-       follow. */
+    /* The implicit primitives keep the base shape; the contact pass (skin_contact.c) takes a
+       point back to it by each joint's map (measured against the skin itself, the pass was 60
+       mm off with the arms down at a 4 % taller, 8 % broader-chested shape). */
     float qa[FIT_SHAPE_DOF], ia[FIT_SHAPE_DOF];
     fit_shape_q identity = fit_shape_q_identity();
     fit_shape_q_to_array(q, qa);
     fit_shape_q_to_array(&identity, ia);
-    m->field_stale = memcmp(qa, ia, sizeof qa) != 0;
+    m->reshaped = memcmp(qa, ia, sizeof qa) != 0;
+    for (int j = 0; j < FIT_JOINT_COUNT; ++j) {
+        unshape_of(&s, j, m->unshape[j]);
+        m->unshape_offset[j] = offset_of(q, j);
+    }
 }
 
 static float clampf(float v, float lo, float hi)

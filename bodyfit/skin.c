@@ -107,7 +107,7 @@ static int pose_mesh(const fit_model *m, const fit_pose *pose, float *vertices_o
     float skin[FIT_JOINT_COUNT][12];
     body_joint_transforms(&m->sk, pose, skin, joints_out);
     blend_skin(m, skin, vertices_out);
-    if (contact && !m->field_stale)
+    if (contact)
         body_skin_contact(m, skin, vertices_out);
     return 0;
 }

@@ -41,7 +41,9 @@ enum { PART_TRUNK, PART_L_ARM, PART_R_ARM, PART_L_LEG, PART_R_LEG, PART_COUNT };
 
 typedef struct contact {
     const body_field *f;
-    float inv[FIT_JOINT_COUNT][12]; /* rest <- posed: rows [R^T | -R^T t] */
+    float inv[FIT_JOINT_COUNT][12]; /* the field's rest <- posed: rows [R^T | -R^T t], then the
+                                       model's unshape map where it was reshaped */
+    float offset[FIT_JOINT_COUNT];  /* m, the girth the reshaping gave the joint's part */
     int n[PART_COUNT];
     short prim[PART_COUNT][BODY_MAX_PRIMS], joint[PART_COUNT][BODY_MAX_PRIMS];
 } contact;
@@ -93,6 +95,18 @@ static void contact_init(contact *c, const fit_model *m, const float skin[][12])
             o[0] = s[r], o[1] = s[4 + r], o[2] = s[8 + r];
             o[3] = -(o[0] * s[3] + o[1] * s[7] + o[2] * s[11]);
         }
+        c->offset[j] = 0.0f;
+        if (m->reshaped) {
+            const float *u = m->unshape[j];
+            float x[12];
+            for (int r = 0; r < 3; ++r)
+                for (int k = 0; k < 4; ++k)
+                    x[r * 4 + k] = u[r * 4] * c->inv[j][k] + u[r * 4 + 1] * c->inv[j][4 + k] +
+                                   u[r * 4 + 2] * c->inv[j][8 + k] + (k == 3 ? u[r * 4 + 3] : 0.0f);
+            for (int k = 0; k < 12; ++k)
+                c->inv[j][k] = x[k];
+            c->offset[j] = m->unshape_offset[j];
+        }
     }
     for (int a = 0; a < PART_COUNT; ++a)
         c->n[a] = 0;
@@ -143,8 +157,9 @@ static float part_dist(const contact *c, int a, const float p[3])
             continue;
         }
         float q[3];
-        to_rest(c->inv[c->joint[a][k]], p, q);
-        d = body_minf(d, body_field_prim_dist(c->f, c->prim[a][k], q));
+        int j = c->joint[a][k];
+        to_rest(c->inv[j], p, q);
+        d = body_minf(d, body_field_prim_dist(c->f, c->prim[a][k], q) - c->offset[j]);
     }
     return d;
 }
@@ -191,8 +206,9 @@ static int in_box(const float lo[3], const float hi[3], const float p[3])
 }
 
 /* Whether vertex i, at p, is to be moved out of part b: inside b and outside b at rest. A model
- * whose mesh was reshaped after it was built (the tracker's learnt shape, fit_shape_base_apply)
- * keeps the primitives of its first shape, and where its rest skin pokes into them that is the
+ * reshaped after it was built (the tracker's learnt shape, fit_shape_base_apply) measures the
+ * primitives of its first shape through its unshape maps, which the blend of a joint's
+ * vertices follows only nearly; where its rest skin still pokes into them that is the
  * reshaping, not a contact: the rest pose stays as it is. */
 static int in_contact(const contact *c, const contact *rest, const fit_model *m, int i, int b,
                       const float p[3])

@@ -2,13 +2,18 @@
  * degrees from vertical, in the boxing guard and with a thigh raised into the belly few body
  * vertices lie more than 2 mm inside another part, where plain linear blend skinning of the same
  * poses leaves many. Measured on the posed mesh alone: ray parity, then the distance
- * to the other parts' triangles. */
+ * to the other parts' triangles. Built twice: test_bodyfit_contact on the model as built, and
+ * test_fit_contact (CONTACT_RESHAPED) on the model reshaped as the tracker reshapes it to the
+ * person's learnt shape (fit_shape_base_apply), which tryon-bodyfit publishes while tracking. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
 
 #include "bodyfit.h"
+#ifdef CONTACT_RESHAPED
+#include "fit_internal.h"
+#endif
 
 #include <math.h>
 #include <stdio.h>
@@ -26,6 +31,9 @@
 enum { PART_TRUNK, PART_L_ARM, PART_R_ARM, PART_L_LEG, PART_R_LEG, PART_COUNT };
 
 static fit_model *model;
+#ifdef CONTACT_RESHAPED
+static fit_shape_base base;
+#endif
 static float *pos, *nrm;
 static uint8_t *part, *tri_part;
 
@@ -78,6 +86,17 @@ static int setup(void **state)
         fprintf(stderr, "create failed: %s\n", err);
         return -1;
     }
+#ifdef CONTACT_RESHAPED
+    /* a person 4 % taller than the model was built for, broader in the chest and shoulders,
+       with thicker limbs: the shape the tracker learns and publishes */
+    if (fit_shape_base_init(&base, model) != 0)
+        return -1;
+    fit_shape_q q = fit_shape_q_identity();
+    q.scale = 1.04f, q.arm = 1.02f, q.shoulder = 1.03f;
+    q.torso[1] = 1.04f, q.torso[2] = 1.08f;
+    q.arm_offset = 0.004f, q.leg_offset = 0.003f;
+    fit_shape_base_apply(&base, model, &q);
+#endif
     size_t nv = (size_t)fit_model_vertex_count(model);
     pos = malloc(nv * 3 * sizeof *pos);
     nrm = malloc(nv * 3 * sizeof *nrm);
@@ -96,6 +115,9 @@ static int teardown(void **state)
     free(nrm);
     free(part);
     free(tri_part);
+#ifdef CONTACT_RESHAPED
+    fit_shape_base_free(&base);
+#endif
     fit_model_destroy(model);
     return 0;
 }
@@ -257,14 +279,27 @@ static void check_pose(const char *name, const fit_pose *p, int most_left)
     assert_true(fixed.count < lbs.count);
 }
 
+/* The bounds (check_pose). The reshaped model measures the primitives of its first shape through
+   each joint's map (skin_contact.c), which its skinning-weighted skin follows only nearly: more
+   is left, against hundreds under plain skinning either way. */
+#ifdef CONTACT_RESHAPED
+#define LEFT_ARMS_DOWN    28
+#define LEFT_BOXING_GUARD 48
+#define LEFT_THIGH_RAISED 30
+#else
+#define LEFT_ARMS_DOWN    12
+#define LEFT_BOXING_GUARD 32
+#define LEFT_THIGH_RAISED 30
+#endif
+
 static void test_arms_lowered_stop_at_the_chest(void **state)
 {
     (void)state;
     fit_pose p;
     fit_motion_eval(FIT_MOTION_ARMS_DOWN, 3.0, &p); /* held at 6 degrees from vertical */
-    check_pose("arms_down", &p, 12);
+    check_pose("arms_down", &p, LEFT_ARMS_DOWN);
     fit_motion_eval(FIT_MOTION_BOXING_GUARD, 3.0, &p);
-    check_pose("boxing_guard", &p, 32);
+    check_pose("boxing_guard", &p, LEFT_BOXING_GUARD);
 }
 
 static void test_raised_thigh_stops_at_the_belly(void **state)
@@ -275,7 +310,7 @@ static void test_raised_thigh_stops_at_the_belly(void **state)
     p.rot[FIT_L_HIP][0] = -100.0f * PI_F / 180.0f; /* flexion: the thigh forward and up */
     p.rot[FIT_L_KNEE][0] = 90.0f * PI_F / 180.0f;
     assert_int_equal(fit_pose_clamp(&p), 0);
-    check_pose("thigh_raised", &p, 30);
+    check_pose("thigh_raised", &p, LEFT_THIGH_RAISED);
 }
 
 static void test_rest_pose_is_unchanged(void **state)
