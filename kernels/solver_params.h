@@ -39,8 +39,8 @@ typedef struct sim_solver_params {
     sp_int support;            /* the support hierarchy on (a garment without attachments) */
     float settle_hold; /* above this strain the settle rounds do not stop for slow progress: the
                           frame's retry goal (sim_desc.retry_max_strain; 0: no retries) */
-    float settle_torn; /* at or over this strain the settle rounds stop: the attempt is torn, the
-                          driver's divergence test fails it whatever settling does (sim.c
+    float settle_torn; /* over this strain the settle rounds stop: the attempt is torn, the
+                          driver's divergence test fails it whatever settling does (cloth.h
                           sim_torn_strain; 0: never) */
     float rest_tol;    /* m, SIM_REST_TOL_M (the last field: sim_solver_params_layout) */
 } sim_solver_params;
