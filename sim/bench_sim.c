@@ -84,7 +84,9 @@ static void usage(FILE *f)
         "         [--body-verts N (body model, default %d; 0 = the model's own default)]\n"
         "         [--hem M (the shirt's hem below the pelvis joint; 0: 0.12 m, at the hips)]\n"
         "         [--ref-body-verts N (the references' body model, 0 = the run's)]\n"
-        "         [--backend c|opencl] [--solver seed|tryon] [--motion all|NAME|FILE.bvh]\n"
+        "         [--backend c|opencl] [--solver seed|tryon]\n"
+        "         [--motion all|NAME|FILE.bvh|FILE.lcmlog (a session's bodies, tryon run "
+        "--record)]\n"
         "         [--stretch N/m] [--bend N/m] [--follow F (0..1; < 0: world frame)]\n"
         "         [--friction MU (< 0: none)] [--damping D (per second, < 0: none)]\n"
         "         [--thickness M (contacts; default 0.004, a --garment the dressing's 0.003)]\n"
@@ -282,8 +284,9 @@ static int parse(int argc, char **argv, bench_opts *o)
         return -1;
     }
     size_t ml = strlen(o->motion);
-    int clip = body && ml > 4 && strcmp(o->motion + ml - 4, ".bvh") == 0;
-    if (o->frames <= 0 && !clip)     /* a clip: its own length (main) */
+    int clip = body && ((ml > 4 && strcmp(o->motion + ml - 4, ".bvh") == 0) ||
+                        (ml > 7 && strcmp(o->motion + ml - 7, ".lcmlog") == 0));
+    if (o->frames <= 0 && !clip)     /* a clip or a log: its own length (main) */
         o->frames = body ? 495 : 90; /* body: 16.5 s, every motion of "all"; drape: 3 s */
     o->desc.iterations = o->iterations;
     if (o->ref_iterations <= 0)
@@ -841,7 +844,8 @@ static void write_csv(const char *path, const bench_run *r, int frames)
     fclose(f);
 }
 
-/* --motion FILE.bvh without --frames: the whole clip (the scene's duration, a small body). */
+/* --motion FILE.bvh or FILE.lcmlog without --frames: the whole clip or session (the scene's
+ * duration; a clip on a small body). */
 static int clip_frames(bench_opts *o)
 {
     char err[256] = "";

@@ -41,8 +41,10 @@ typedef struct probe_opts {
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: tryon-probe-motion --motion NAME[@SPEED[,AMOUNT]]|FILE.bvh [--frames N]\n"
-            "                          [--verts N] [--iterations K] [--body-verts N] [--dump N]\n"
+            "usage: tryon-probe-motion --motion NAME[@SPEED[,AMOUNT]]|FILE.bvh|FILE.lcmlog\n"
+            "                          [--frames N] [--verts N] [--iterations K] [--body-verts N]\n"
+            "                          [--dump N]\n"
+            "(FILE.lcmlog: the bodies a recorded session published, tryon run --record DIR)\n"
             "The shirt of tryon-bench-sim's body scene on a motion (C backend, the clip's whole\n"
             "length unless --frames), one CSV line a frame on stdout: statistics, where the\n"
             "springs over 3 %% strain are, the pose, the skin passing through itself.\n"

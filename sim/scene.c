@@ -23,7 +23,12 @@ struct sim_scene {
     int32_t *tris;
     float joints[32 * 3];
     int has_joints;
-    int kind;   /* 0 sphere, 1 body model, 2 capsule figure */
+    int kind; /* 0 sphere, 1 body model, 2 capsule figure, 3 recorded bodies */
+    /* kind 3: frames bodies of nv vertices (frames * nv * 3) and their joints (frames *
+       joint_floats), frame k shown from (k - 0.5) to (k + 0.5) * frame_dt_s */
+    int frames, joint_floats;
+    float *rec_xyz, *rec_joints;
+    double frame_dt_s;
     int motion; /* -1 = all, -2 = a motion-capture clip */
     /* a scripted motion's time scale and the scale of its joint rotations ("NAME@SPEED,AMOUNT") */
     double speed, amount;
@@ -61,8 +66,57 @@ void sim_scene_destroy(sim_scene *sc)
     free(sc->rest);
     free(sc->xyz);
     free(sc->tris);
+    free(sc->rec_xyz);
+    free(sc->rec_joints);
     free(sc);
 }
+
+sim_scene *sim_scene_recorded(int nv, const int32_t *tris, int nt, int frames, float *xyz,
+                              float *joints, int joint_floats, double frame_dt_s)
+{
+    if (nv < 3 || nt < 1 || frames < 1 || !xyz || joint_floats < 0 || joint_floats > 32 * 3 ||
+        !(frame_dt_s > 0.0))
+        return NULL;
+    sim_scene *sc = scene_alloc(nv, nt);
+    if (!sc)
+        return NULL;
+    memcpy(sc->tris, tris, (size_t)nt * 3 * sizeof *tris);
+    sc->kind = 3;
+    sc->frames = frames;
+    sc->rec_xyz = xyz;
+    sc->rec_joints = joint_floats > 0 ? joints : NULL;
+    sc->joint_floats = sc->rec_joints ? joint_floats : 0;
+    sc->has_joints = sc->rec_joints != NULL;
+    sc->frame_dt_s = frame_dt_s;
+    if (!sc->rec_joints)
+        free(joints);
+    return sc;
+}
+
+/* kind 3: the recorded body nearest t_s (the last one past the end). */
+static void recorded_eval(sim_scene *sc, double t_s)
+{
+    double k = isfinite(t_s) ? floor(t_s / sc->frame_dt_s + 0.5) : 0.0;
+    int f = k < 0.0 ? 0 : (k >= (double)sc->frames ? sc->frames - 1 : (int)k);
+    memcpy(sc->xyz, sc->rec_xyz + (size_t)f * sc->nv * 3, (size_t)sc->nv * 3 * sizeof *sc->xyz);
+    if (sc->rec_joints)
+        memcpy(sc->joints, sc->rec_joints + (size_t)f * sc->joint_floats,
+               (size_t)sc->joint_floats * sizeof *sc->joints);
+}
+
+static int is_log(const char *motion)
+{
+    size_t n = strlen(motion);
+    return n > 7 && strcmp(motion + n - 7, ".lcmlog") == 0;
+}
+
+#ifndef SIM_HAVE_BUS
+sim_scene *sim_scene_log(const char *path, char *err, size_t err_size)
+{
+    snprintf(err, err_size, "%s: built without the bus (bus/), no LCM log can be read", path);
+    return NULL;
+}
+#endif
 
 /* UV sphere: rings of latitude between two poles. */
 static void sphere_mesh(float *xyz, int32_t *tris, int rings, int segs, float r, const float c[3])
@@ -235,6 +289,8 @@ static int motion_scale(const char *motion, char *name, size_t name_size, double
 
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
 {
+    if (is_log(motion))
+        return sim_scene_log(motion, err, err_size);
     int m = is_bvh(motion) ? -2 : -1;
     char name[64];
     double speed = 1.0, amount = 1.0;
@@ -299,6 +355,8 @@ static void scaled_motion_pose(const sim_scene *sc, double t_s, fit_pose *pose)
 int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
                    int *nt, const float **joints)
 {
+    if (sc->kind == 3)
+        recorded_eval(sc, t_s);
     if (sc->kind == 1) {
         fit_pose pose;
         if (sc->clip)
@@ -321,6 +379,8 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
 
 double sim_scene_duration(const sim_scene *sc)
 {
+    if (sc->kind == 3)
+        return sc->frames * sc->frame_dt_s;
     if (sc->kind != 1)
         return 1e9;
     if (sc->clip)
@@ -341,6 +401,8 @@ static const float fig_radii[FIG_PARTS][3] = {
 sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, size_t err_size)
 {
     (void)target_vertices;
+    if (is_log(motion))
+        return sim_scene_log(motion, err, err_size);
     int m = -1;
     for (int i = 0; i < SCENE_MOTIONS; i++)
         if (strcmp(motion, segments[i].name) == 0)
@@ -374,6 +436,8 @@ sim_scene *sim_scene_body(const char *motion, int target_vertices, char *err, si
 int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const int32_t **tris,
                    int *nt, const float **joints)
 {
+    if (sc->kind == 3)
+        recorded_eval(sc, t_s);
     if (sc->kind == 2) {
         /* arms swing about the shoulder (y = 1.5 m); fast_swing: amplitude 0.9 rad at 1.6 Hz
          * gives 0.55 m * 0.9 * 2 pi * 1.6 = 5 m/s peak at the hand */
@@ -402,6 +466,8 @@ int sim_scene_eval(sim_scene *sc, double t_s, const float **xyz, int *nv, const 
 
 double sim_scene_duration(const sim_scene *sc)
 {
+    if (sc->kind == 3)
+        return sc->frames * sc->frame_dt_s;
     return sc->kind == 2 ? (sc->motion < 0 ? all_duration() : 1e9) : 1e9;
 }
 #endif
