@@ -45,10 +45,10 @@ static int parse_smooth(const char *v, float *hz)
 int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *bad)
 {
     static const char *const names[] = {
-        "--points",           "--iterations",      "--fit-vertices",    "--out-vertices",
-        "--vertices",         "--temporal",        "--predict",         "--smooth",
-        "--smooth-beta-root", "--smooth-beta-rot", "--smooth-speed-hz", "--init-iterations",
-        "--start-turns"};
+        "--points",           "--iterations",        "--fit-vertices",    "--out-vertices",
+        "--vertices",         "--temporal",          "--predict",         "--smooth",
+        "--smooth-beta-root", "--smooth-beta-rot",   "--smooth-speed-hz", "--init-iterations",
+        "--start-turns",      "--smooth-doubt-speed"};
     int known = 0;
     for (size_t k = 0; k < sizeof names / sizeof names[0] && !known; ++k)
         known = !strcmp(a, names[k]);
@@ -80,7 +80,11 @@ int fit_tracker_option(const char *a, const char *v, fit_tracker_desc *d, int *b
         *bad = fit_parse_float(v, 1e-6f, 1e4f, &d->smooth_beta_root) != 0;
     else if (!strcmp(a, "--smooth-beta-rot"))
         *bad = fit_parse_float(v, 1e-6f, 1e4f, &d->smooth_beta_rot) != 0;
-    else
+    else if (!strcmp(a, "--smooth-doubt-speed")) {
+        float c;
+        *bad = fit_parse_float(v, 0.0f, 100.0f, &c) != 0;
+        d->smooth_doubt_mps = *bad ? d->smooth_doubt_mps : (c == 0.0f ? -1.0f : c); /* 0: none */
+    } else
         *bad = fit_parse_float(v, 0.01f, 100.0f, &d->smooth_speed_hz) != 0;
     return 1;
 }
@@ -90,8 +94,8 @@ void fit_tracker_options_usage(FILE *f, int indent)
     fprintf(f,
             "%*s[--points N] [--iterations N] [--fit-vertices N] [--out-vertices N]\n"
             "%*s[--temporal W] [--predict G] [--smooth on|off|HZ] [--smooth-beta-root B]\n"
-            "%*s[--smooth-beta-rot B] [--smooth-speed-hz HZ] [--init-iterations N]\n"
-            "%*s[--start-turns N]\n",
+            "%*s[--smooth-beta-rot B] [--smooth-speed-hz HZ] [--smooth-doubt-speed MPS]\n"
+            "%*s[--init-iterations N] [--start-turns N]\n",
             indent, "", indent, "", indent, "", indent, "");
 }
 
@@ -106,10 +110,12 @@ void fit_tracker_options_help(FILE *f)
             "or its cut-off at rest in Hz (0.5; 0: off); --smooth-beta-root: its rise per m/s\n"
             "of the root, the root's and every joint's (16); --smooth-beta-rot: its rise per\n"
             "m/s of a joint's reach, its rad/s times the distance to the farthest joint below\n"
-            "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5).\n"
+            "it (3); --smooth-speed-hz: the cut-off of its speed estimate (1.5);\n"
+            "--smooth-doubt-speed: while the fit is doubted (published init), the fastest\n"
+            "any published joint moves, m/s (%.0f; 0: no bound).\n"
             "A person entering: --init-iterations: Gauss-Newton iterations from the rest pose\n"
             "on their first frame (12; a restart after a lost part takes 40); --start-turns:\n"
             "turns of shape and pose a frame over their first frames (1-8; 8: all on the\n"
             "first frame, the default; fewer: cheaper first frames, more jitter).\n",
-            FIT_TRACK_POINTS);
+            FIT_TRACK_POINTS, (double)FIT_TRACK_DOUBT_MPS);
 }

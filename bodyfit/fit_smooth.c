@@ -56,6 +56,12 @@ static void smooth_vec3(const fit_smooth_desc *d, float beta, float extra_hz, co
         x[k] += a * (in[k] - x[k]);
 }
 
+void fit_smoother_hold(fit_smoother *s, const fit_pose *published)
+{
+    if (s->primed)
+        s->x = *published;
+}
+
 void fit_smoother_step(fit_smoother *s, const fit_pose *in, fit_pose *out)
 {
     if (!s->primed) {

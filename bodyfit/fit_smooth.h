@@ -47,5 +47,8 @@ void fit_smoother_set_levers(fit_smoother *s, const float lever_m[FIT_JOINT_COUN
 void fit_smoother_reset(fit_smoother *s);
 /* Filters one frame's pose into out (in and out may be the same). */
 void fit_smoother_step(fit_smoother *s, const fit_pose *in, fit_pose *out);
+/* The pose published in place of the filter's last output (tracker.c bounds a doubted fit's
+ * speed): the filter goes on from it. */
+void fit_smoother_hold(fit_smoother *s, const fit_pose *published);
 
 #endif

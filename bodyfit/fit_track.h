@@ -100,6 +100,13 @@ void fit_doubt_names(unsigned doubt, char *buf, size_t len);
 /* Data points fitted per frame: 800 halved the still jitter of 400 (the depth noise averaged
  * over twice the points a limb gets) for about 1 ms of CPU a frame (docs/bodyfit.md, jitter). */
 #define FIT_TRACK_POINTS 800
+/* While a fit is doubted (published INIT after the person's first frames) no published joint
+ * moves faster than this, m/s: a lost arm found again, or a fit flipping between two readings
+ * of the same points, jumped 0.2-0.4 m a frame on the boxing clip where the true wrists moved at
+ * most 0.13, and the cloth between a hand and a hip cannot follow a limb through itself
+ * (docs/bodyfit.md, "Real motion"). The fastest true wrist of the project's motions and clips:
+ * 3.9 m/s. */
+#define FIT_TRACK_DOUBT_MPS 6.0f
 
 typedef struct fit_tracker_desc {
     fit_segment_desc segment;
@@ -117,9 +124,11 @@ typedef struct fit_tracker_desc {
     float smooth_hz;     /* 0 = the default: the published pose's One Euro filter's cut-off at
                             rest (fit_smooth.h); < 0 = no filter */
     float smooth_beta_root, smooth_beta_rot; /* 0 = the defaults (fit_smooth.h) */
-    float smooth_speed_hz; /* the filter's speed estimate's cut-off; 0 = the default */
-    int fixed_shape;       /* 1 = use shape as given, never estimate it */
-    fit_shape shape;       /* the starting (or fixed) shape; zero height = the average preset */
+    float smooth_speed_hz;  /* the filter's speed estimate's cut-off; 0 = the default */
+    float smooth_doubt_mps; /* while the fit is doubted, the fastest any published joint moves,
+                               m/s (0 = FIT_TRACK_DOUBT_MPS; < 0 = no bound) */
+    int fixed_shape;        /* 1 = use shape as given, never estimate it */
+    fit_shape shape;        /* the starting (or fixed) shape; zero height = the average preset */
 } fit_tracker_desc;
 
 typedef struct fit_result {

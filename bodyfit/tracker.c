@@ -118,6 +118,8 @@ struct fit_tracker {
     int failing_frames;   /* fits in a row under TRACK_RESTART_EXPLAINED, the person in view */
     int lost_part_frames; /* fits in a row with a limb left behind, the person in view */
     fit_pose published;
+    float published_joints[FIT_JOINT_COUNT * 3]; /* world, of the pose last published */
+    int have_published;
     int iterations, shape_steps; /* this frame's work (fit_result) */
 };
 
@@ -184,6 +186,7 @@ fit_tracker *fit_tracker_create(const fit_tracker_desc *d, char *err, size_t err
     x->shape_frames = x->shape_frames > 0 ? x->shape_frames : 10;
     x->temporal = x->temporal > 0.0f ? x->temporal : TRACK_TEMPORAL;
     x->predict = x->predict < 0.0f ? 0.0f : (x->predict > 0.0f ? x->predict : TRACK_PREDICT);
+    x->smooth_doubt_mps = x->smooth_doubt_mps != 0.0f ? x->smooth_doubt_mps : FIT_TRACK_DOUBT_MPS;
     fit_smooth_desc sd = {.min_cutoff_hz = x->smooth_hz,
                           .beta_root = x->smooth_beta_root,
                           .beta_rot = x->smooth_beta_rot,
@@ -483,6 +486,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
         track_shape_reset(t); /* the next person may be another */
     t->have_pose = 0;
     t->have_last = 0;
+    t->have_published = 0;
     fit_smoother_reset(&t->smooth);
     t->person_frames = 0;
     t->shape_learnt = 0;
@@ -498,6 +502,37 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
     out->vertices = NULL;
     out->vertex_count = 0;
     return e;
+}
+
+/* A doubted fit's published pose p, as far from the pose last published as a joint may move in a
+ * frame (smooth_doubt_mps): the step scaled down until no joint moves farther (joint motion is
+ * near linear in the scale over a frame's step; three rounds). Returns 1 if p was changed. */
+static int track_bound_speed(fit_tracker *t, const fit_pose *was_p, fit_pose *p)
+{
+    const float step_m = t->d.smooth_doubt_mps / 30.0f, *was_j = t->published_joints;
+    const fit_pose was = *was_p;
+    float skin[FIT_JOINT_COUNT][12], j[FIT_JOINT_COUNT * 3];
+    int changed = 0;
+    for (int round = 0; round < 3; ++round) {
+        body_joint_transforms(&t->full->sk, p, skin, j);
+        float far2 = 0.0f;
+        for (int k = 0; k < FIT_JOINT_COUNT; ++k) {
+            float d[3] = {j[k * 3] - was_j[k * 3], j[k * 3 + 1] - was_j[k * 3 + 1],
+                          j[k * 3 + 2] - was_j[k * 3 + 2]};
+            far2 = fmaxf(far2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+        if (far2 <= step_m * step_m * 1.0001f)
+            break;
+        float a = step_m / sqrtf(far2);
+        for (int k = 0; k < 3; ++k)
+            p->root[k] = was.root[k] + a * (p->root[k] - was.root[k]);
+        for (int q = 0; q < FIT_JOINT_COUNT; ++q)
+            for (int k = 0; k < 3; ++k)
+                p->rot[q][k] = was.rot[q][k] + a * (p->rot[q][k] - was.rot[q][k]);
+        fit_pose_clamp(p);
+        changed = 1;
+    }
+    return changed;
 }
 
 fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_result *out)
@@ -598,12 +633,18 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     }
     out->shape_steps = t->shape_steps;
     double t2 = tryon_now_ms(), c2 = track_cpu_ms();
+    const fit_pose last_published = t->published;
     t->published = t->pose;
     if (fresh)
         fit_smoother_reset(&t->smooth);
     if (t->d.smooth_hz >= 0.0f)
         fit_smoother_step(&t->smooth, &t->pose, &t->published);
+    if (t->have_published && t->sound_frames < TRACK_SOUND_FRAMES && t->d.smooth_doubt_mps > 0.0f &&
+        track_bound_speed(t, &last_published, &t->published))
+        fit_smoother_hold(&t->smooth, &t->published);
     fit_model_pose(t->full, &t->published, t->verts, out->joints);
+    memcpy(t->published_joints, out->joints, sizeof t->published_joints);
+    t->have_published = 1;
     out->ms_skin = tryon_now_ms() - t2;
     out->cpu_ms_skin = track_cpu_ms() - c2;
     int settled = t->d.fixed_shape || t->person_frames > t->d.shape_frames;

@@ -48,7 +48,8 @@ static void usage(FILE *f)
             "The shirt of tryon-bench-sim's body scene on a motion (C backend, the clip's whole\n"
             "length unless --frames), one CSV line a frame on stdout: statistics, where the\n"
             "springs over 3 %% strain are, the pose, the skin passing through itself.\n"
-            "--dump N writes frame N's body (x y z) and cloth (x y z strain row column) as\n"
+            "--dump N writes frame N's body (x y z inside bone) and cloth (x y z strain row "
+            "column) as\n"
             "probe-body.xyz and probe-cloth.xyz here. docs/sim.md, \"Real motion: the causes\".\n");
 }
 
@@ -195,13 +196,16 @@ static void springs_over(const sim_cloth *c, int cols, int rows, const float *jo
     }
 }
 
-/* one frame as points for a plot: body x y z; cloth x y z strain (its largest stretch spring) */
-static void dump(const sim *s, const float *xyz, int nv, int cols)
+/* one frame as points for a plot: body x y z, inside another part (0/1, skin_inside) and the
+ * nearest bone (0 trunk .. 6 r_thigh); cloth x y z strain (its largest stretch spring) */
+static void dump(const sim *s, const float *xyz, int nv, int cols, const uint8_t *inside,
+                 const float *joints)
 {
     FILE *b = fopen("probe-body.xyz", "w"), *c = fopen("probe-cloth.xyz", "w");
     float *worst = calloc((size_t)s->cloth.nv, sizeof *worst);
     for (int i = 0; b && i < nv; i++)
-        fprintf(b, "%.4f %.4f %.4f\n", xyz[i * 3], xyz[i * 3 + 1], xyz[i * 3 + 2]);
+        fprintf(b, "%.4f %.4f %.4f %d %d\n", xyz[i * 3], xyz[i * 3 + 1], xyz[i * 3 + 2], inside[i],
+                nearest_bone(&xyz[i * 3], joints));
     for (int k = 0; worst && k < s->cloth.ns; k++) {
         if (s->cloth.kind[k] != SIM_SPRING_STRETCH)
             continue;
@@ -278,8 +282,6 @@ static int run(const probe_opts *o)
             bad = 1;
             break;
         }
-        if (f == o->dump_frame)
-            dump(s, xyz, nv, cols);
         garment_over ov;
         springs_over(&s->cloth, cols, rows, joints, &ov);
         const sim_cloth *c = &s->cloth;
@@ -309,6 +311,8 @@ static int run(const probe_opts *o)
             printf(",%d", ov.bones[k]);
         int skin_arms, skin_thighs,
             skin_n = skin_inside(s, xyz, nv, tris, nt, pts, inside, j, &skin_arms, &skin_thighs);
+        if (f == o->dump_frame)
+            dump(s, xyz, nv, cols, inside, j);
         printf(",%d,%d,%s,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.2f,%.2f,%d,%d,%d\n", a / cols,
                a % cols, bone_name[nearest_bone(mid, j)], 1000.0f * sqrtf(dist2(mid, &xyz[bv * 3])),
                100.0f * skin_stretch(bv, xyz, rest, tris, nt), arm_l, arm_r, thigh_l, thigh_r, bend,

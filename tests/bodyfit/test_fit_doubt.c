@@ -50,6 +50,9 @@ typedef struct run_counts {
     int frames, tracking, doubted;
     unsigned causes;  /* every doubt bit seen */
     int last_doubted; /* the last frame not published TRACKING */
+    float step_m;     /* the farthest a published joint moved into a doubted frame */
+    float last[FIT_JOINT_COUNT * 3];
+    int have_last;
 } run_counts;
 
 /* Fits frames first..last-1 (frame k at time k / FPS) of motion m, or of the rest pose when m
@@ -77,6 +80,13 @@ static void run(fit_tracker *tr, int m, int first, int last, int count_from, run
         }
         if (r.state == FIT_STATE_TRACKING && je > GARBAGE_JOINTS_M)
             fail_msg("frame %d: joints %.0f mm off, published as TRACKING", k, 1000.0 * je);
+        for (int j = 0; r.doubt && c->have_last && j < FIT_JOINT_COUNT * 3; j += 3) {
+            float d[3] = {r.joints[j] - c->last[j], r.joints[j + 1] - c->last[j + 1],
+                          r.joints[j + 2] - c->last[j + 2]};
+            c->step_m = fmaxf(c->step_m, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
+        memcpy(c->last, r.joints, sizeof c->last);
+        c->have_last = 1;
         if (k < count_from)
             continue;
         c->frames++;
@@ -115,6 +125,29 @@ static void test_arms_crossed_are_doubted_then_recovered(void **state)
     fit_tracker_destroy(tr);
 }
 
+/* While the fit is doubted the published joints move no faster than FIT_TRACK_DOUBT_MPS (the
+ * tracker's frame is 1/30 s): the crossed arms, whose fit jumps without the bound. */
+static void test_a_doubted_fit_moves_at_a_persons_speed(void **state)
+{
+    (void)state;
+    const float bound_m = FIT_TRACK_DOUBT_MPS / 30.0f;
+    float step[2];
+    for (int bounded = 0; bounded < 2; ++bounded) {
+        fit_tracker_desc d = {.smooth_doubt_mps = bounded ? 0.0f : -1.0f};
+        fit_tracker *tr = fit_tracker_create(&d, NULL, 0);
+        assert_non_null(tr);
+        run_counts held = {0};
+        run(tr, FIT_MOTION_ARMS_CROSS, 0, (int)(6.0 * FPS), (int)(2.0 * FPS), &held);
+        step[bounded] = held.step_m;
+        fit_tracker_destroy(tr);
+    }
+    printf("# the farthest a joint moved into a doubted frame: %.0f mm without the bound, %.0f "
+           "with it (bound %.0f mm)\n",
+           1000.0 * step[0], 1000.0 * step[1], 1000.0 * bound_m);
+    assert_true(step[0] > bound_m);
+    assert_true(step[1] <= bound_m * 1.01f);
+}
+
 static void test_half_out_of_view_is_doubted_then_recovered(void **state)
 {
     (void)state;
@@ -138,6 +171,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arms_crossed_are_doubted_then_recovered),
         cmocka_unit_test(test_half_out_of_view_is_doubted_then_recovered),
+        cmocka_unit_test(test_a_doubted_fit_moves_at_a_persons_speed),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -40,7 +40,13 @@ static void test_options_parsed(void **state)
     assert_int_equal(d.init_iterations, 20);
     assert_int_equal(fit_tracker_option("--start-turns", "2", &d, &bad), 1);
     assert_int_equal(d.start_turns, 2);
+    assert_int_equal(fit_tracker_option("--smooth-doubt-speed", "3.5", &d, &bad), 1);
+    assert_float_equal(d.smooth_doubt_mps, 3.5f, 0.0f);
+    assert_int_equal(fit_tracker_option("--smooth-doubt-speed", "0", &d, &bad), 1);
+    assert_true(d.smooth_doubt_mps < 0.0f); /* 0: no bound, which the tracker reads as negative */
     assert_int_equal(bad, 0);
+    assert_int_equal(fit_tracker_option("--smooth-doubt-speed", "-2", &d, &bad), 1);
+    assert_int_equal(bad, 1);
 }
 
 static void test_smooth_values(void **state)
