@@ -99,6 +99,8 @@ struct sim {
     float (*x_prev_good)[4];
     float (*x_best)[4]; /* the attempt nearest the strain goals of a frame retried for them */
     float (*x_prev_best)[4];
+    float (*x_pinch)[4]; /* of a frame no attempt solved, the least pinched (SIM_PINCH_SPRINGS) */
+    float (*x_prev_pinch)[4];
     float *scratch;    /* ns floats: strains for the percentile */
     int32_t *tris3;    /* garment triangles [nt][3] for sim_triangles */
     long frame;        /* body frames stepped */
@@ -134,6 +136,20 @@ struct sim {
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CARRY_MAX_STRAIN    0.10f  /* a carried cloth stretched more is dressed again (carry) */
+/* A pinch is no tear: at most this many stretch springs past SIM_DIVERGE_STRAIN, none past
+   SIM_PINCH_STRAIN. Where a hand presses the hem into the hip the cloth between them has no room:
+   on the boxing clip's fitted bodies 1-10 springs of 6 mm went past 50 % (the cloth moved at most
+   5 cm, nothing else stretched), the whole frame was failed and the garment carried rigidly,
+   20-30 mm inside a body that moved on, and the frames after it, starting there, tore for real
+   (80-330 springs; docs/sim.md, "Real motion: pinches"). A pinched attempt is retried as a torn
+   one is; when no attempt is good, the least pinched is published (sim.c, sim_step). */
+#define SIM_PINCH_SPRINGS 16
+#define SIM_PINCH_STRAIN  2.0f /* a spring at three times its length has torn, whatever else */
+/* A state past SIM_DIVERGE_STRAIN (max_strain, springs_over springs past it) that only pinched. */
+static inline int sim_is_pinch(float max_strain, int springs_over)
+{
+    return max_strain < SIM_PINCH_STRAIN && springs_over <= SIM_PINCH_SPRINGS;
+}
 /* A strain grown from the last good frame's (good): state_diverged's test. */
 static inline float sim_strain_grown(float good)
 {
@@ -210,5 +226,7 @@ void sim_cloth_free(sim_cloth *c);
 int sim_cloth_hierarchy(sim_cloth *c);
 /* Metrics (metrics.c): stretch strain max and p99; scratch holds ns floats. */
 void sim_strain_stats(const sim_cloth *c, float *scratch, float *max_strain, float *p99_strain);
+/* How many stretch springs are strained past limit. */
+int sim_strain_count_over(const sim_cloth *c, float limit);
 
 #endif

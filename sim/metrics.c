@@ -65,6 +65,15 @@ float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float
     return mx;
 }
 
+int sim_strain_count_over(const sim_cloth *c, float limit)
+{
+    int n = 0;
+    for (int s = 0; s < c->ns; s++)
+        n += c->kind[s] == SIM_SPRING_STRETCH && c->rest[s] > 0.0f &&
+             spring_strain((const float(*)[4])c->x, c->ends, c->rest, s) > limit;
+    return n;
+}
+
 void sim_strain_stats(const sim_cloth *c, float *scratch, float *max_strain, float *p99_strain)
 {
     int n = 0;

@@ -300,6 +300,8 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->x_prev_good = malloc((size_t)nv * sizeof *s->x_prev_good);
     s->x_best = malloc((size_t)nv * sizeof *s->x_best);
     s->x_prev_best = malloc((size_t)nv * sizeof *s->x_prev_best);
+    s->x_pinch = malloc((size_t)nv * sizeof *s->x_pinch);
+    s->x_prev_pinch = malloc((size_t)nv * sizeof *s->x_prev_pinch);
     s->scratch = malloc((size_t)(s->cloth.ns + 1) * sizeof *s->scratch);
     s->tris3 = malloc((size_t)s->cloth.nt * 3 * sizeof *s->tris3);
     s->follow_pq = malloc((size_t)(2 * (s->cloth.num_attachments + SIM_FOLLOW_ANCHORS) + 1) *
@@ -308,9 +310,10 @@ sim *sim_create(const sim_desc *desc, const sim_garment *g, sim_reject *why)
     s->carry = sim_carry_create(d.max_body_vertices);
     s->x_first = malloc((size_t)nv * sizeof *s->x_first);
     s->body_first = malloc((size_t)d.max_body_vertices * sizeof *s->body_first);
-    if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->scratch ||
-        !s->tris3 || !s->follow_pq || !s->follow_anchor || !s->carry || !s->x_first ||
-        !s->body_first || body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
+    if (!s->x_good || !s->x_prev_good || !s->x_best || !s->x_prev_best || !s->x_pinch ||
+        !s->x_prev_pinch || !s->scratch || !s->tris3 || !s->follow_pq || !s->follow_anchor ||
+        !s->carry || !s->x_first || !s->body_first ||
+        body_alloc(&s->body, d.max_body_vertices, d.max_body_triangles) < 0) {
         sim_reject_set(why, SIM_ERR_NO_MEMORY, "sim state for %d vertices", nv);
         sim_destroy(s);
         return NULL;
@@ -359,6 +362,8 @@ void sim_destroy(sim *s)
     free(s->x_prev_good);
     free(s->x_best);
     free(s->x_prev_best);
+    free(s->x_pinch);
+    free(s->x_prev_pinch);
     free(s->scratch);
     free(s->tris3);
     free(s->follow_pq);
@@ -397,7 +402,9 @@ static double now_ms(void)
 
 /* Divergence: a coordinate that is not finite; a stretch no fabric survives, and growing; or a
  * point faster than any garment moves on a person, unless the strain is relaxing (a scrambled
- * start snapping back to its rest shape moves fast and is no divergence). */
+ * start snapping back to its rest shape moves fast and is no divergence). 0: none; 2: a pinch
+ * (cloth.h: the stretch alone, on a few springs), which a retry may solve and which is
+ * published if none does; 1: any other. */
 static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strain)
 {
     const sim_cloth *c = &s->cloth;
@@ -427,8 +434,11 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
     /* a stretch no fabric survives is a failure unless it is relaxing: growing or standing (a
        state stuck at 30x its rest length passed while it merely stayed there, docs/sim.md,
        "Real motion") */
-    return (!(*max_strain < SIM_DIVERGE_STRAIN) && (growing || !relaxing)) ||
-           (too_fast && !relaxing);
+    if (too_fast && !relaxing)
+        return 1;
+    if (*max_strain < SIM_DIVERGE_STRAIN || (!growing && relaxing))
+        return 0;
+    return sim_is_pinch(*max_strain, sim_strain_count_over(c, SIM_DIVERGE_STRAIN)) ? 2 : 1;
 }
 
 /* How far a frame's strain is over the retry goals: > 1 misses one of them; 0 without goals
@@ -693,7 +703,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     int iters = s->desc.iterations, ok = 0, best_iters = 0;
     int strain_retry = !(s->excess_good > 1.0f);
     float max_strain = 0.0f, p99 = 0.0f, best_strain = 0.0f, best_p99 = 0.0f;
-    float excess = 0.0f, best_excess = INFINITY;
+    float excess = 0.0f, best_excess = INFINITY, pinch_strain = INFINITY, pinch_p99 = 0.0f;
+    int pinch_iters = 0;
     sim_frame_stats sum = {0};
     double budget = retry_budget(&s->desc);
     int late = 0; /* the frame budget cut settle rounds or a strain retry */
@@ -708,7 +719,16 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
         r = s->ops->frame(s->backend, s, iters, st);
         sim_budget_learn_attempt(&s->budget, st, iters);
         add_stage_times(&sum, st);
-        int good = r == 0 && !state_diverged(s, iters, &max_strain, &p99);
+        int diverged = r == 0 ? state_diverged(s, iters, &max_strain, &p99) : 1;
+        int good = !diverged;
+        if (diverged == 2 && max_strain < pinch_strain) { /* published if no attempt is good */
+            size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_pinch;
+            memcpy(s->x_pinch, s->cloth.x, bytes);
+            memcpy(s->x_prev_pinch, s->cloth.x_prev, bytes);
+            pinch_strain = max_strain;
+            pinch_p99 = p99;
+            pinch_iters = iters;
+        }
         excess = strain_excess(s, max_strain, p99);
         late |= good && settle_cut(st, allowed, max_strain);
         /* no time left for a retry twice as long as this attempt: publish the nearest so far */
@@ -752,6 +772,18 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
         p99 = best_p99;
         excess = best_excess;
         iters = best_iters;
+        ok = 1;
+    } else if (!ok && pinch_iters > 0) {
+        /* no attempt was good, one only pinched (cloth.h, SIM_PINCH_SPRINGS): published as it is,
+           its strain said, rather than the last good cloth carried (docs/sim.md, "pinches") */
+        size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_pinch;
+        memcpy(s->cloth.x, s->x_pinch, bytes);
+        memcpy(s->cloth.x_prev, s->x_prev_pinch, bytes);
+        s->ops->upload(s->backend, s);
+        max_strain = pinch_strain;
+        p99 = pinch_p99;
+        excess = strain_excess(s, max_strain, p99);
+        iters = pinch_iters;
         ok = 1;
     }
     set_stage_times(st, &sum);
