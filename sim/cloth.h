@@ -226,7 +226,9 @@ void sim_cloth_free(sim_cloth *c);
 int sim_cloth_hierarchy(sim_cloth *c);
 /* Metrics (metrics.c): stretch strain max and p99; scratch holds ns floats. */
 void sim_strain_stats(const sim_cloth *c, float *scratch, float *max_strain, float *p99_strain);
-/* How many stretch springs are strained past limit. */
-int sim_strain_count_over(const sim_cloth *c, float limit);
+/* How many stretch springs with a free end are strained past limit, and the largest strain of
+ * those springs into *free_max (a spring between two glued vertices is as long as the body
+ * makes it: no solver can tear it or mend it). */
+int sim_strain_count_over(const sim_cloth *c, float limit, float *free_max);
 
 #endif

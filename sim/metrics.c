@@ -65,12 +65,19 @@ float sim_stretch_max(const float (*x)[4], const int32_t (*ends)[2], const float
     return mx;
 }
 
-int sim_strain_count_over(const sim_cloth *c, float limit)
+int sim_strain_count_over(const sim_cloth *c, float limit, float *free_max)
 {
     int n = 0;
-    for (int s = 0; s < c->ns; s++)
-        n += c->kind[s] == SIM_SPRING_STRETCH && c->rest[s] > 0.0f &&
-             spring_strain((const float(*)[4])c->x, c->ends, c->rest, s) > limit;
+    float mx = 0.0f;
+    for (int s = 0; s < c->ns; s++) {
+        if (c->kind[s] != SIM_SPRING_STRETCH || c->rest[s] <= 0.0f ||
+            (c->x[c->ends[s][0]][3] == 0.0f && c->x[c->ends[s][1]][3] == 0.0f))
+            continue;
+        float e = spring_strain((const float(*)[4])c->x, c->ends, c->rest, s);
+        n += e > limit;
+        mx = e > mx ? e : mx;
+    }
+    *free_max = mx;
     return n;
 }
 

@@ -438,7 +438,11 @@ static int state_diverged(sim *s, int iters, float *max_strain, float *p99_strai
         return 1;
     if (*max_strain < SIM_DIVERGE_STRAIN || (!growing && relaxing))
         return 0;
-    return sim_is_pinch(*max_strain, sim_strain_count_over(c, SIM_DIVERGE_STRAIN)) ? 2 : 1;
+    float free_max;
+    int over = sim_strain_count_over(c, SIM_DIVERGE_STRAIN, &free_max);
+    if (free_max < SIM_DIVERGE_STRAIN)
+        return 0; /* only springs between glued vertices: the body's own stretch under them */
+    return sim_is_pinch(free_max, over) ? 2 : 1;
 }
 
 /* How far a frame's strain is over the retry goals: > 1 misses one of them; 0 without goals
