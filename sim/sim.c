@@ -673,6 +673,35 @@ int sim_start(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, i
     return 0;
 }
 
+/* An attempt set aside during a frame's retries (sim_step): the good one nearest the strain
+   goals, or the least pinched. iters 0: none yet. */
+typedef struct kept_attempt {
+    float (*x)[4], (*x_prev)[4];
+    float strain, p99;
+    int iters;
+} kept_attempt;
+
+static void keep_attempt(const sim *s, kept_attempt *k, float strain, float p99, int iters)
+{
+    size_t bytes = (size_t)s->cloth.nv * sizeof *k->x;
+    memcpy(k->x, s->cloth.x, bytes);
+    memcpy(k->x_prev, s->cloth.x_prev, bytes);
+    k->strain = strain;
+    k->p99 = p99;
+    k->iters = iters;
+}
+
+static void take_attempt(sim *s, const kept_attempt *k, float *strain, float *p99, int *iters)
+{
+    size_t bytes = (size_t)s->cloth.nv * sizeof *k->x;
+    memcpy(s->cloth.x, k->x, bytes);
+    memcpy(s->cloth.x_prev, k->x_prev, bytes);
+    s->ops->upload(s->backend, s);
+    *strain = k->strain;
+    *p99 = k->p99;
+    *iters = k->iters;
+}
+
 /* A budget (ms, 0: none) leaves no time for another attempt twice as long as the last (started
    at ta; t0: the frame's start; now: that attempt's end). */
 static int no_time_for_retry(double budget, double t0, double ta, double now)
@@ -704,11 +733,12 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
 
     /* a diverged attempt is retried from the last good state with twice the iterations; so is
        one whose strain misses the goals, and the good attempt nearest them is published */
-    int iters = s->desc.iterations, ok = 0, best_iters = 0;
+    int iters = s->desc.iterations, ok = 0;
     int strain_retry = !(s->excess_good > 1.0f);
-    float max_strain = 0.0f, p99 = 0.0f, best_strain = 0.0f, best_p99 = 0.0f;
-    float excess = 0.0f, best_excess = INFINITY, pinch_strain = INFINITY, pinch_p99 = 0.0f;
-    int pinch_iters = 0;
+    float max_strain = 0.0f, p99 = 0.0f;
+    float excess = 0.0f, best_excess = INFINITY;
+    kept_attempt best = {s->x_best, s->x_prev_best, 0.0f, 0.0f, 0};
+    kept_attempt pinch = {s->x_pinch, s->x_prev_pinch, INFINITY, 0.0f, 0};
     sim_frame_stats sum = {0};
     double budget = retry_budget(&s->desc);
     int late = 0; /* the frame budget cut settle rounds or a strain retry */
@@ -725,14 +755,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
         add_stage_times(&sum, st);
         int diverged = r == 0 ? state_diverged(s, iters, &max_strain, &p99) : 1;
         int good = !diverged;
-        if (diverged == 2 && max_strain < pinch_strain) { /* published if no attempt is good */
-            size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_pinch;
-            memcpy(s->x_pinch, s->cloth.x, bytes);
-            memcpy(s->x_prev_pinch, s->cloth.x_prev, bytes);
-            pinch_strain = max_strain;
-            pinch_p99 = p99;
-            pinch_iters = iters;
-        }
+        if (diverged == 2 && max_strain < pinch.strain) /* published if no attempt is good */
+            keep_attempt(s, &pinch, max_strain, p99, iters);
         excess = strain_excess(s, max_strain, p99);
         late |= good && settle_cut(st, allowed, max_strain);
         /* no time left for a retry twice as long as this attempt: publish the nearest so far */
@@ -746,13 +770,8 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
             break;
         }
         if (good && excess < best_excess) {
-            size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_best;
-            memcpy(s->x_best, s->cloth.x, bytes);
-            memcpy(s->x_prev_best, s->cloth.x_prev, bytes);
-            best_strain = max_strain;
-            best_p99 = p99;
+            keep_attempt(s, &best, max_strain, p99, iters);
             best_excess = excess;
-            best_iters = iters;
         }
         if (good && no_time)
             break; /* an earlier attempt was nearer the goals: it is published below */
@@ -766,28 +785,13 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
             iters *= 2;
         }
     }
-    if (!ok && best_iters > 0) {
-        /* an earlier attempt was good and nearer the goals than the last (or the last diverged) */
-        size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_best;
-        memcpy(s->cloth.x, s->x_best, bytes);
-        memcpy(s->cloth.x_prev, s->x_prev_best, bytes);
-        s->ops->upload(s->backend, s);
-        max_strain = best_strain;
-        p99 = best_p99;
-        excess = best_excess;
-        iters = best_iters;
-        ok = 1;
-    } else if (!ok && pinch_iters > 0) {
-        /* no attempt was good, one only pinched (cloth.h, SIM_PINCH_SPRINGS): published as it is,
-           its strain said, rather than the last good cloth carried (docs/sim.md, "pinches") */
-        size_t bytes = (size_t)s->cloth.nv * sizeof *s->x_pinch;
-        memcpy(s->cloth.x, s->x_pinch, bytes);
-        memcpy(s->cloth.x_prev, s->x_prev_pinch, bytes);
-        s->ops->upload(s->backend, s);
-        max_strain = pinch_strain;
-        p99 = pinch_p99;
-        excess = strain_excess(s, max_strain, p99);
-        iters = pinch_iters;
+    /* an earlier attempt was good and nearer the goals than the last (or the last diverged); or
+       none was good and one only pinched (cloth.h, SIM_PINCH_SPRINGS): published as it is, its
+       strain said, rather than the last good cloth carried (docs/sim.md, "Stability") */
+    const kept_attempt *kept = ok ? NULL : best.iters > 0 ? &best : pinch.iters > 0 ? &pinch : NULL;
+    if (kept) {
+        take_attempt(s, kept, &max_strain, &p99, &iters);
+        excess = kept == &best ? best_excess : strain_excess(s, max_strain, p99);
         ok = 1;
     }
     set_stage_times(st, &sum);
