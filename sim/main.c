@@ -26,8 +26,15 @@
 #define SIM_MAIN_SHAPE           FIT_SHAPE_PARAMS
 #define SIM_MAIN_POSE            FIT_POSE_PARAMS
 /* Shape parameters (metres) within this of those the garment was made on are the same shape: a
- * third of the shirt's ease (15 mm at size M) */
+ * third of the shirt's ease (15 mm at size M), for a garment made on a shape still estimated (a
+ * person's first frames: the walk's shirt kept from its first body stretched to 6.6 %) */
 #define SIM_MAIN_SHAPE_SAME_M 0.005f
+/* ... and within this for a garment made on a settled shape: a girth 15 mm larger is 2.4 mm more
+ * radius, a sixth of the 15 mm the shirt stands off the skin, a length 15 mm longer moves an
+ * armhole or a hem by less. The fitter refines a settled shape by 5-6 mm after a doubt: at 5 mm
+ * the garment was made again then, on whatever pose the body had (the fitted 01_01's arms lying
+ * in the trunk), and the sim carried 36 of its 149 bodies against 15 (docs/sim.md, "tryon-sim") */
+#define SIM_MAIN_SHAPE_SETTLED_M 0.015f
 /* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
  * body: one made on a body that cannot carry it never recovers. */
 #define SIM_MAIN_DIVERGED_REBUILD 30
@@ -97,6 +104,7 @@ typedef struct app {
     int fresh;            /* the garment was made on the body now stepped: sim_start, no step */
     int rehearse;         /* --rehearse on: the first garment made once before listening */
     int made_num_shape;   /* the shape the garment was made on (0: the body carried none) */
+    int made_settled;     /* ... on a TRACKING body: a settled shape */
     float made_shape[SIM_MAIN_SHAPE];
     int fatal;  /* an error no body can fix (the garment file): exit 1 */
     float *xyz; /* cloth vertices for the message */
@@ -223,6 +231,7 @@ static int make_sim(app *a, const pending_body *b, const sim_topology *topo)
     a->diverged_run = 0;
     a->made_on_init = b->state == TRYON_BODY_T_STATE_INIT;
     a->made_num_shape = b->num_shape;
+    a->made_settled = b->state == TRYON_BODY_T_STATE_TRACKING;
     memcpy(a->made_shape, b->shape, sizeof a->made_shape);
     a->topology++;
     a->tris_due = 1;
@@ -403,8 +412,9 @@ static int shape_moved(const app *a, const pending_body *b)
 {
     if (!b->num_shape || b->num_shape != a->made_num_shape)
         return 1;
+    float same = a->made_settled ? SIM_MAIN_SHAPE_SETTLED_M : SIM_MAIN_SHAPE_SAME_M;
     for (int k = 0; k < b->num_shape; k++)
-        if (!(fabsf(b->shape[k] - a->made_shape[k]) <= SIM_MAIN_SHAPE_SAME_M))
+        if (!(fabsf(b->shape[k] - a->made_shape[k]) <= same))
             return 1;
     return 0;
 }
