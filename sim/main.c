@@ -33,7 +33,7 @@
  * radius, a sixth of the 15 mm the shirt stands off the skin, a length 15 mm longer moves an
  * armhole or a hem by less. The fitter refines a settled shape by 5-6 mm after a doubt: at 5 mm
  * the garment was made again then, on whatever pose the body had (the fitted 01_01's arms lying
- * in the trunk), and the sim carried 36 of its 149 bodies against 15 (docs/sim.md, "tryon-sim") */
+ * in the trunk), and the sim carried 36 of its 149 bodies against 15 (docs/pipeline.md, "Live") */
 #define SIM_MAIN_SHAPE_SETTLED_M 0.015f
 /* A garment that diverges this many bodies in a row (1 s at 30 fps) is made again on the next
  * body: one made on a body that cannot carry it never recovers. */
