@@ -859,8 +859,8 @@ static int clip_frames(bench_opts *o)
     return 0;
 }
 
-/* The figures of docs/sim.md's "Real motion" over the published frames: the share of frames
- * with no vertex over 1 mm inside the body, and with max strain <= 3 % and p99 <= 1 % (after
+/* The figures of docs/sim-real-motion.md's "Real motion" over the published frames: the share of
+ * frames with no vertex over 1 mm inside the body, and with max strain <= 3 % and p99 <= 1 % (after
  * the settling frames); the frames carried by the body (no attempt solved them) and the longest
  * run of them. */
 typedef struct frame_shares {

@@ -141,8 +141,8 @@ struct sim {
    on the boxing clip's fitted bodies 1-10 springs of 6 mm went past 50 % (the cloth moved at most
    5 cm, nothing else stretched), the whole frame was failed and the garment carried rigidly,
    20-30 mm inside a body that moved on, and the frames after it, starting there, tore for real
-   (80-330 springs; docs/sim.md, "Real motion: pinches"). A pinched attempt is retried as a torn
-   one is; when no attempt is good, the least pinched is published (sim.c, sim_step). */
+   (80-330 springs; docs/sim-real-motion.md, "Real motion: pinches"). A pinched attempt is retried
+   as a torn one is; when no attempt is good, the least pinched is published (sim.c, sim_step). */
 #define SIM_PINCH_SPRINGS 16
 #define SIM_PINCH_STRAIN  2.0f /* a spring at three times its length has torn, whatever else */
 /* A state past SIM_DIVERGE_STRAIN (max_strain, springs_over springs past it) that only pinched. */

@@ -1,5 +1,5 @@
 /* Private to sim/: what a motion does to the body, measured for tryon-probe-motion
- * (probe_motion.c) and its test (docs/sim.md, "Real motion: the causes"). */
+ * (probe_motion.c) and its test (docs/sim-real-motion.md, "Real motion: the causes"). */
 #ifndef TRYON_SIM_PROBE_H
 #define TRYON_SIM_PROBE_H
 

@@ -7,7 +7,7 @@
  * stretch under it, what the body does (upper arms and thighs against the trunk, the trunk's
  * bend, the root's speed, the fastest body vertex) and whether its skin passes through itself
  * (probe.h; how many of those vertices lie at the arms and at the thighs). Findings and the
- * columns: docs/sim.md, "Real motion: the causes".
+ * columns: docs/sim-real-motion.md, "Real motion: the causes".
  */
 #include <math.h>
 #include <stdio.h>
@@ -50,7 +50,8 @@ static void usage(FILE *f)
             "springs over 3 %% strain are, the pose, the skin passing through itself.\n"
             "--dump N writes frame N's body (x y z inside bone) and cloth (x y z strain row "
             "column) as\n"
-            "probe-body.xyz and probe-cloth.xyz here. docs/sim.md, \"Real motion: the causes\".\n");
+            "probe-body.xyz and probe-cloth.xyz here. docs/sim-real-motion.md, \"Real motion:\n"
+            "the causes\".\n");
 }
 
 static int parse(int argc, char **argv, probe_opts *o)

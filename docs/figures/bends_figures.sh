@@ -1,5 +1,5 @@
 #!/bin/sh
-# The bends' settle rounds (docs/sim.md, "Real motion: the bends' settle rounds"; the diary in
+# The bends' settle rounds (docs/sim-real-motion.md, "Real motion: the bends' settle rounds"; the diary in
 # docs/sim-history-5.md, "Bends: the drop was not the re-search"): the whole bend_forward and
 # bend_fast (495 frames, strain retries on), the real-motion tables with and without the
 # retries (docs/figures/motion_figures.sh, the clips' first CLIP_FRAMES frames), then, ROUNDS

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The causes behind the motion-capture clips' strain (docs/sim.md, "Real motion: the causes"):
+# The causes behind the motion-capture clips' strain (docs/sim-real-motion.md, "Real motion: the causes"):
 # tryon-probe-motion on the three clips of Debian's assimp-testmodels (7,000-vertex shirt, 25
 # iterations, C backend), one CSV a clip in $OUT, then the frames over the strain goals (max > 3 %
 # or p99 > 1 %) by what the body does: thigh flexion (the angle between thigh and trunk), trunk

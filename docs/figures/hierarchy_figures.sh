@@ -1,5 +1,5 @@
 #!/bin/sh
-# The strain-limit hierarchy's figures in docs/sim.md ("Real motion") and docs/sim-history-5.md
+# The strain-limit hierarchy's figures in docs/sim-real-motion.md ("Real motion") and docs/sim-history-5.md
 # ("Bends: the hierarchy's levels"): the scripted motions and the clips' first CLIP_FRAMES frames
 # without the strain retries (docs/figures/motion_figures.sh with STRAIN_RETRY=-1), then with
 # them, then the body scene (--motion all, 495 frames) ROUNDS times, each round alternating the

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The real-motion figures in docs/sim.md ("Real motion"): tryon-bench-sim on the scripted motions
+# The real-motion figures in docs/sim-real-motion.md ("Real motion"): tryon-bench-sim on the scripted motions
 # that real motion spends its time in and on the three CMU / boxing clips of Debian's
 # assimp-testmodels, 7,000 vertices, 25 iterations, C backend; each run's final JSON line is kept
 # in $OUT/motion.jsonl and a table of the figures the issue asks for is printed.

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The stability map of docs/sim.md ("Where each solver stops working"): each solver on the shirt
+# The stability map of docs/sim-real-motion.md ("Where each solver stops working"): each solver on the shirt
 # (7,000 vertices, C backend) over the axes that break methods, each swept on its own from the
 # scripted motion (tryon-bench-sim --motion NAME@SPEED,AMOUNT, docs/body-model.md):
 #   arm angle to the torso  arms_down@1,A   the arms held A x 39 degrees in from the A-pose:

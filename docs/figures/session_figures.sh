@@ -1,5 +1,5 @@
 #!/bin/sh
-# The sim on the bodies a pipeline really published (docs/sim.md, "Real motion: pinches"): each
+# The sim on the bodies a pipeline really published (docs/sim-real-motion.md, "Real motion: pinches"): each
 # motion-capture clip recorded facing the camera (tryon-synth, 150 frames), run through the whole
 # pipeline twice, with the recording's true bodies (tryon-truth) and with the fitter's
 # (tryon-bodyfit), each session kept (tryon run --record), then tryon-bench-sim on each

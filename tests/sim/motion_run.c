@@ -1,4 +1,4 @@
-/* The shirt on a real-motion scene from rest (docs/sim.md, "Real motion"), shared by
+/* The shirt on a real-motion scene from rest (docs/sim-real-motion.md, "Real motion"), shared by
  * test_sim_motion and test_sim_bend. */
 #include <math.h>
 #include <setjmp.h>

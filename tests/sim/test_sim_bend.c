@@ -1,8 +1,8 @@
-/* The shirt on the forward trunk bends (docs/sim.md, "Real motion"; bend_side, which nearly met
- * the goals before, is left to docs/figures/motion_figures.sh for the sanitizer build's time): from
- * rest, every frame solved, nothing inside, never over 10 % strain, and after the first second
- * within 3 % max / 1 % p99, on both backends. In the moving frame of the attachments (the chest)
- * bend_fast failed (below): docs/sim-history.md, "Bends: the cause". */
+/* The shirt on the forward trunk bends (docs/sim-real-motion.md, "Real motion"; bend_side, which
+ * nearly met the goals before, is left to docs/figures/motion_figures.sh for the sanitizer build's
+ * time): from rest, every frame solved, nothing inside, never over 10 % strain, and after the first
+ * second within 3 % max / 1 % p99, on both backends. In the moving frame of the attachments (the
+ * chest) bend_fast failed (below): docs/sim-history.md, "Bends: the cause". */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

@@ -1,5 +1,5 @@
-/* The shirt on the real-motion scenes (docs/sim.md, "Real motion"): its armholes leave room for
- * arms lowered to the sides, and short takes of arms_down, boxing_guard and twist keep the
+/* The shirt on the real-motion scenes (docs/sim-real-motion.md, "Real motion"): its armholes leave
+ * room for arms lowered to the sides, and short takes of arms_down, boxing_guard and twist keep the
  * published statistics within issue 19's goals on every frame; both backends (the trunk bends:
  * test_sim_bend). */
 #include <math.h>

@@ -104,8 +104,8 @@ static void test_sim_probe_skin_inside_two_spheres(void **state)
 /* The body model's own skin on the scripted motions that keep the arms away from the trunk and
    the thighs below 35 degrees of flexion (the A-pose, the bend, the twist, the march) barely
    passes through itself, every MOTION_EVERY frames of 6 s. The motion-capture clips do, by
-   hundreds of vertices at the hips and shoulders (docs/sim.md, "Real motion: the causes";
-   tryon-probe-motion's skin_inside column, docs/figures/clips_figures.sh). */
+   hundreds of vertices at the hips and shoulders (docs/sim-real-motion.md, "Real motion: the
+   causes"; tryon-probe-motion's skin_inside column, docs/figures/clips_figures.sh). */
 static void test_sim_probe_scripted_skin_is_sane(void **state)
 {
     (void)state;

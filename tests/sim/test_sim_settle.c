@@ -2,7 +2,7 @@
  * only within the strain retry goal. The bends' frames take 1.5-3 % off the strain a batch, at
  * the progress bound, so they stopped at 4-9 % and were done again; with the plain contact push,
  * the velocity it left made those frames refresh their contacts, which kept the rounds going
- * (docs/sim.md, "Real motion: the bends' settle rounds"). */
+ * (docs/sim-real-motion.md, "Real motion: the bends' settle rounds"). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
