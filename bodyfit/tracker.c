@@ -509,7 +509,7 @@ static fit_frame_error track_lost(fit_tracker *t, fit_result *out, fit_frame_err
  * near linear in the scale over a frame's step; three rounds). Returns 1 if p was changed. */
 static int track_bound_speed(fit_tracker *t, const fit_pose *was_p, fit_pose *p)
 {
-    const float step_m = t->d.smooth_doubt_mps / 30.0f, *was_j = t->published_joints;
+    const float step_m = t->d.smooth_doubt_mps * t->smooth.d.frame_s, *was_j = t->published_joints;
     const fit_pose was = *was_p;
     float skin[FIT_JOINT_COUNT][12], j[FIT_JOINT_COUNT * 3];
     int changed = 0;
