@@ -216,7 +216,8 @@ void sim_resolve_one(__global float4 *x, __global float4 *x_prev, int i,
 
 /* Twin of sim_collider_research (sim/find_contacts.c): point i searched again when it has moved
    farther from where its contact was searched (seen[i]) than that search's clearance (the signed
-   distance there to its triangle), or than the thickness h when that is less. */
+   distance there to its triangle; radius, the search's reach, when it found none), or than the
+   thickness h when that is less. */
 void sim_research_one(__global const float4 *x, int i, __global int *contact, __global float4 *seen,
                       __global const float4 *v, __global const int4 *tris,
                       __global const float4 *nrm, __global const int4 *nbr,
@@ -226,19 +227,21 @@ void sim_research_one(__global const float4 *x, int i, __global int *contact, __
 {
     int t = contact[i];
     float4 p = x[i], s = seen[i];
-    if (t < 0 || p.w == 0.0f)
+    if (p.w == 0.0f)
         return;
-    int4 f = tris[t];
-    float4 q, bary;
-    int region = sim_closest_on_triangle(s, v[f.x], v[f.y], v[f.z], &q, &bary);
-    float4 d = sim_sub3(s, q);
-    float clear;
-    if (region == SIM_REGION_FACE) {
-        clear = sim_dot3(d, nrm[t]);
-    } else {
-        float4 pn = sim_pseudo_normal(v, tris, nrm, nbr, vt_start, vt_list, t, region);
-        float len = sqrt(sim_dot3(d, d));
-        clear = sim_dot3(d, pn) >= 0.0f ? len : -len;
+    float clear = radius;
+    if (t >= 0) {
+        int4 f = tris[t];
+        float4 q, bary;
+        int region = sim_closest_on_triangle(s, v[f.x], v[f.y], v[f.z], &q, &bary);
+        float4 d = sim_sub3(s, q);
+        if (region == SIM_REGION_FACE) {
+            clear = sim_dot3(d, nrm[t]);
+        } else {
+            float4 pn = sim_pseudo_normal(v, tris, nrm, nbr, vt_start, vt_list, t, region);
+            float len = sqrt(sim_dot3(d, d));
+            clear = sim_dot3(d, pn) >= 0.0f ? len : -len;
+        }
     }
     float r = clear > h ? clear : h;
     float4 m = sim_sub3(p, s);

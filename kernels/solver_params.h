@@ -24,7 +24,7 @@ typedef struct sim_solver_params {
     float limit;               /* the strain limit, a fraction of rest */
     float keep;                /* velocity kept per step (damping) */
     float g[3];                /* gravity times dt^2, m */
-    sp_int contact_every;      /* contacts searched again every this many steps, 0 = never */
+    sp_int fast;               /* the cloth travels past the contacts' reach in the frame (0/1) */
     sp_int nleaves;            /* body triangles (the BVH's leaves) */
     float radius;              /* m, the contact search's reach: thickness + reach */
     float h;                   /* m, the cloth's thickness */
@@ -57,18 +57,17 @@ typedef struct sim_solver_params {
 typedef enum sim_stage {
     SIM_STAGE_START,       /* per vertex: the moving frame, feature points, attachment targets */
     SIM_STAGE_CONTACTS,    /* the contact search */
-    SIM_STAGE_STEP,        /* per vertex: contacts refreshed (every contact_every steps), Verlet,
-                              the attachments placed */
+    SIM_STAGE_STEP,        /* per vertex: Verlet, the attachments placed */
     SIM_STAGE_SPRINGS,     /* XPBD, colour by colour */
     SIM_STAGE_SWEEP,       /* the strain limit, one Gauss-Seidel sweep over the stretch colours */
     SIM_STAGE_VERTICES,    /* per vertex: tethers, the post-stabilisation's bracket closed (post
-                              rounds: x_prev += x), the contact response, the bracket opened for
-                              the next post round (x_prev -= x) */
+                              rounds: x_prev += x), the contact searched again for a point that
+                              moved past its clearance, the contact response, the bracket opened
+                              for the next post round (x_prev -= x) */
     SIM_STAGE_HIERARCHY,   /* the strain-limit hierarchy, level by level */
     SIM_STAGE_SUPPORT,     /* the support hierarchy (support set: no attachments) */
     SIM_STAGE_SETTLE_TEST, /* the largest stretch strain: the settle rounds go on or stop */
-    SIM_STAGE_REOPEN,      /* per vertex: the bracket opened for a settle round (contacts searched
-                              once more first in the first round of a frame that refreshes) */
+    SIM_STAGE_REOPEN,      /* per vertex: the bracket opened for a settle round */
     SIM_STAGES
 } sim_stage;
 
@@ -132,17 +131,17 @@ static inline int sim_vertices_open(int b, int rep, const sim_solver_params *p)
 }
 
 /* SIM_STAGE_SETTLE_TEST's decision, 1 to stop the settle rounds: the largest stretch strain m is
-   within the settle goal; or, in a frame that does not refresh its contacts, the last batch did
+   within the settle goal; or, in a frame whose cloth is not fast (p->fast), the last batch did
    not take enough off it (prev: the test before; first: this is the frame's first test) while m
    is within the retry goal. Above that goal a frame stopped early is done again with twice the
    steps: the bends' frames take 1.5-3 % off a batch, at the progress bound, and reach the goal
    in the rounds left (docs/sim.md, "Real motion: the bends' settle rounds"). Or m is over
    settle_torn: the attempt has torn, the driver fails it whatever the rounds do, and they would
    only spend the frame's time. */
-static inline int sim_settle_stop(float m, float prev, int first, int refresh,
+static inline int sim_settle_stop(float m, float prev, int first, int fast,
                                   const sim_solver_params *p)
 {
     int hold = p->settle_hold > 0.0f && m > p->settle_hold;
     return !(m > p->settle_strain) || (p->settle_torn > 0.0f && m > p->settle_torn) ||
-           (!refresh && !first && !hold && !(m < p->settle_progress * prev));
+           (!fast && !first && !hold && !(m < p->settle_progress * prev));
 }

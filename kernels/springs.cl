@@ -343,7 +343,7 @@ __kernel void sim_iterations_tryon(
     int lid = get_local_id(0), L = get_local_size(0);
     __local int settle_max, support_key, support_root, support_count;
     const int nv = p.nv, num_colors = p.num_colors, num_stretch_colors = p.num_stretch_colors,
-              iters = p.iters, contact_every = p.contact_every, nleaves = p.nleaves, natt = p.natt,
+              iters = p.iters, fast = p.fast, nleaves = p.nleaves, natt = p.natt,
               hier_levels = p.hier_levels, settle_batch = p.settle_batch;
     const float limit = p.limit, keep = p.keep, radius = p.radius, h = p.h, mu = p.mu,
                 rest_tol = p.rest_tol;
@@ -365,12 +365,8 @@ __kernel void sim_iterations_tryon(
                 case SIM_STAGE_CONTACTS:
                     break; /* the commands before this kernel (sim/cl_backend.c cl_frame) */
                 case SIM_STAGE_STEP: {
-                    int refresh = contact_every > 0 && rep > 0 && rep % contact_every == 0;
                     for (int i = lid; i < nv; i += L) {
-                        if (refresh)
-                            contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
-                                                            x[i], radius);
-                        if (refresh || rep == 0)
+                        if (rep == 0)
                             x_seen[i] = x[i];
                         sim_verlet_one(x, x_prev, i, keep, g);
                     }
@@ -436,20 +432,14 @@ __kernel void sim_iterations_tryon(
                     atomic_max(&settle_max, as_int(m));
                     barrier(CLK_LOCAL_MEM_FENCE);
                     float mx = as_float(settle_max);
-                    if (sim_settle_stop(mx, prev, rep == 0, contact_every > 0, &p))
+                    if (sim_settle_stop(mx, prev, rep == 0, fast, &p))
                         stop = 1;
                     prev = mx;
                     break;
                 }
                 case SIM_STAGE_REOPEN:
-                    for (int i = lid; i < nv; i += L) {
-                        if (rep == 0 && contact_every > 0) {
-                            contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris,
-                                                            x[i], radius);
-                            x_seen[i] = x[i];
-                        }
+                    for (int i = lid; i < nv; i += L)
                         sim_post_begin_one(x, x_prev, i);
-                    }
                     barrier(CLK_GLOBAL_MEM_FENCE);
                     break;
                 default:
@@ -474,23 +464,16 @@ __kernel void sim_solver_params_layout(__global int *out)
  * pass is the same _one function as in sim_iterations_tryon; a colour's springs share no vertex,
  * so the order within a pass does not change the result. */
 
-/* SIM_STAGE_STEP of step rep: contacts refreshed, Verlet, the attachments placed (item i: vertex i
-   and attachment i). */
+/* SIM_STAGE_STEP of step rep: Verlet, the attachments placed (item i: vertex i and attachment i);
+   in the first, where each point's contact was searched. */
 __kernel void sim_pass_step(const sim_solver_params p, int rep, __global float4 *x,
-                            __global float4 *x_prev, __global const int2 *child,
-                            __global const int *order, __global const float4 *lo,
-                            __global const float4 *hi, __global const float4 *v,
-                            __global const int4 *tris, __global int *contact,
-                            __global const sim_attachment *att, __global const float4 *att_from,
-                            __global const float4 *att_to, __global float4 *x_seen)
+                            __global float4 *x_prev, __global const sim_attachment *att,
+                            __global const float4 *att_from, __global const float4 *att_to,
+                            __global float4 *x_seen)
 {
     int i = get_global_id(0);
     if (i < p.nv) {
-        int refresh = p.contact_every > 0 && rep > 0 && rep % p.contact_every == 0;
-        if (refresh)
-            contact[i] =
-                sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
-        if (refresh || rep == 0)
+        if (rep == 0)
             x_seen[i] = x[i];
         sim_verlet_one(x, x_prev, i, p.keep, (float4)(p.g[0], p.g[1], p.g[2], 0.0f));
     }
@@ -584,20 +567,12 @@ __kernel void sim_pass_settle_test(int n, __global const float4 *x, __global con
     }
 }
 
-/* SIM_STAGE_REOPEN before settle round rep. */
-__kernel void sim_pass_reopen(const sim_solver_params p, int rep, __global float4 *x,
-                              __global float4 *x_prev, __global const int2 *child,
-                              __global const int *order, __global const float4 *lo,
-                              __global const float4 *hi, __global const float4 *v,
-                              __global const int4 *tris, __global int *contact,
-                              __global float4 *x_seen)
+/* SIM_STAGE_REOPEN before a settle round. */
+__kernel void sim_pass_reopen(const sim_solver_params p, __global float4 *x,
+                              __global float4 *x_prev)
 {
     int i = get_global_id(0);
     if (i >= p.nv)
         return;
-    if (rep == 0 && p.contact_every > 0) {
-        contact[i] = sim_contact_search(p.nleaves, child, order, lo, hi, v, tris, x[i], p.radius);
-        x_seen[i] = x[i];
-    }
     sim_post_begin_one(x, x_prev, i);
 }

@@ -309,16 +309,15 @@ static cl_int follow(cl_state *c, struct sim *s)
     return clEnqueueNDRangeKernel(c->cl.queue, f, 1, NULL, &global, NULL, 0, NULL, NULL);
 }
 
-/* The frame's settings as both backends read them (sim_solver_params_fill), with the contacts'
-   refresh and the body's leaves. */
+/* The frame's settings as both backends read them (sim_solver_params_fill), with whether the
+   cloth moves fast and the body's leaves. */
 static void frame_params(const cl_state *c, const struct sim *s, int iters, sim_solver_params *p)
 {
     const sim_cloth *k = &s->cloth;
     sim_solver_params_fill(s, iters, p);
-    /* contacts refreshed only while the cloth moves fast, as stage_contacts (solver_c.c) decides */
-    /* on the host copy, which matches the device: feature points move x and x_prev together, so
-       they do not change the travel */
-    p->contact_every = sim_contact_every(sim_step_travel2(k, 0, k->nv), iters);
+    /* fast as stage_contacts (solver_c.c) decides it, on the host copy, which matches the device:
+       feature points move x and x_prev together, so they do not change the travel */
+    p->fast = sim_frame_fast(sim_step_travel2(k, 0, k->nv), iters);
     p->nleaves = c->g.nt;
 }
 
@@ -385,9 +384,7 @@ static cl_int buffer_args(cl_kernel k, cl_uint first, const cl_mem *b, cl_uint n
 static cl_int pass_args(cl_state *c, const sim_solver_params *p)
 {
     cl_kernel *k = c->k_pass;
-    const cl_mem step[] = {c->x,        c->x_prev, c->g.child, c->g.order,   c->g.lo,
-                           c->g.hi,     c->g.v,    c->g.tris,  c->g.contact, c->attach,
-                           c->att_from, c->att_to, c->x_seen};
+    const cl_mem step[] = {c->x, c->x_prev, c->attach, c->att_from, c->att_to, c->x_seen};
     const cl_mem springs[] = {c->x, c->ends, c->rest, c->kind};
     const cl_mem vertices[] = {c->x,         c->x_prev,     c->anchor,    c->tlen,
                                c->g.contact, c->g.v,        c->g.tris,    c->g.n,
@@ -399,8 +396,7 @@ static cl_int pass_args(cl_state *c, const sim_solver_params *p)
                               c->g.contact, c->g.v,        c->g.tris, c->g.n,
                               c->adj_start, c->adj_spring, c->level,  c->front};
     const cl_mem settle[] = {c->x, c->ends, c->rest, c->kind, c->settle};
-    const cl_mem reopen[] = {c->x,    c->x_prev, c->g.child, c->g.order,   c->g.lo,
-                             c->g.hi, c->g.v,    c->g.tris,  c->g.contact, c->x_seen};
+    const cl_mem reopen[] = {c->x, c->x_prev};
 #define N(a) (cl_uint)(sizeof a / sizeof a[0])
     cl_int st = CL_SUCCESS;
     for (int i = 0; i < PASS_KINDS; i++)
@@ -413,7 +409,7 @@ static cl_int pass_args(cl_state *c, const sim_solver_params *p)
     st |= buffer_args(k[PASS_HIERARCHY], 3, hierarchy, N(hierarchy));
     st |= buffer_args(k[PASS_SUPPORT], 1, support, N(support));
     st |= buffer_args(k[PASS_SETTLE_TEST], 1, settle, N(settle));
-    st |= buffer_args(k[PASS_REOPEN], 2, reopen, N(reopen));
+    st |= buffer_args(k[PASS_REOPEN], 1, reopen, N(reopen));
 #undef N
     return st;
 }
@@ -461,7 +457,7 @@ static cl_int pass_settle_test(cl_state *c, pass_walk *w, int rep)
                                  NULL);
     float m;
     memcpy(&m, &bits, sizeof m);
-    if (sim_settle_stop(m, w->prev, rep == 0, w->p->contact_every > 0, w->p))
+    if (sim_settle_stop(m, w->prev, rep == 0, w->p->fast, w->p))
         w->stop = 1;
     w->prev = m;
     return st;
@@ -504,8 +500,7 @@ static cl_int pass_stage(cl_state *c, const sim_cloth *k, pass_walk *w, int stag
     case SIM_STAGE_SETTLE_TEST:
         return pass_settle_test(c, w, rep);
     case SIM_STAGE_REOPEN:
-        st = ARG(kp[PASS_REOPEN], 1, rep);
-        return st != CL_SUCCESS ? st : launch(c, PASS_REOPEN, p->nv);
+        return launch(c, PASS_REOPEN, p->nv);
     default: /* START and CONTACTS: the commands before (cl_frame) */
         return CL_SUCCESS;
     }

@@ -166,14 +166,12 @@ static inline float sim_torn_strain(float good)
 #define SIM_RETRY_STRAIN   0.03f
 #define SIM_RETRY_P99      0.01f
 #define SIM_CONTACT_MARGIN 0.03f /* tryon: contacts cached with this reach beyond thickness */
-/* tryon: iterations between contact searches within a frame that needs them (below): a point
-   approaching the body at up to reach / (this * step), 2.25 m/s at 25 steps, is seen. 5 until
-   2026-11-24: the walk took 15.6 ms a frame for the same cloth (docs/sim.md, "Contact refresh"). */
-#define SIM_CONTACT_EVERY 10
-/* tryon: contacts are refreshed within a frame only when the fastest cloth point would travel
-   farther than this in the frame (the reach: nothing beyond it at the frame's search can be met
-   otherwise). Was half the reach until the moving frame: docs/sim.md, "The moving frame". */
-#define SIM_REFRESH_TRAVEL SIM_CONTACT_MARGIN
+/* tryon: a frame is fast (sim_solver_params.fast) when its fastest cloth point would travel
+   farther than this in the frame (the reach: past it a point may meet what the frame's search did
+   not see; each such point is searched again as it passes its clearance, sim_collider_research).
+   Until 2026-12-08 a fast frame searched every point again every 10 steps instead
+   (docs/sim-history-6.md, "Contacts searched again where a point moved"). */
+#define SIM_FAST_TRAVEL SIM_CONTACT_MARGIN
 /* tryon: a vertex within this of the thickness from its contact triangle rests on the body (the
    response leaves it at the thickness; a millimetre covers the strain passes' moves since) */
 #define SIM_REST_TOL_M  0.001f

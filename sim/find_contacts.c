@@ -151,7 +151,7 @@ void sim_collider_research(sim_collider *c, const float (*x)[4], int begin, int 
         return;
     end = end < c->max_cloth ? end : c->max_cloth;
     for (int i = begin; i < end; i++) {
-        if (c->contact[i] < 0 || x[i][3] == 0.0f)
+        if (x[i][3] == 0.0f)
             continue;
         const float *b = c->clear[i];
         float d[3] = {x[i][0] - b[0], x[i][1] - b[1], x[i][2] - b[2]};

@@ -57,7 +57,7 @@ float sim_step_travel2(const sim_cloth *c, int b, int e)
     return m2;
 }
 
-int sim_contact_every(float travel2, int iters)
+int sim_frame_fast(float travel2, int iters)
 {
-    return sqrtf(travel2) * (float)iters > SIM_REFRESH_TRAVEL ? SIM_CONTACT_EVERY : 0;
+    return sqrtf(travel2) * (float)iters > SIM_FAST_TRAVEL;
 }

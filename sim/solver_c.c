@@ -274,7 +274,7 @@ typedef struct frame_walk {
     const sim_solver_params *p;
     sim_phases *ph;
     sim_phase_cursor cur;
-    int refresh;   /* contacts refreshed every this many steps (0: never) */
+    int fast;      /* the cloth travels past the contacts' reach in the frame (sim_frame_fast) */
     float prev;    /* the last settle test's largest strain */
     double t_fp;   /* thread 0: when the start ended, */
     double t_cont; /* and the contact search */
@@ -302,11 +302,12 @@ static void stage_start(struct sim *s, c_state *cs, frame_walk *w)
 }
 
 /* SIM_STAGE_CONTACTS: each thread's part whole (the search shares out its own,
- * sim/find_contacts.c). Contacts are cached for the frame; when the cloth itself moves fast (a
- * falling sheet, a hem kicked by a thigh: farther than the reach in the frame) they are refreshed
- * every few steps: reach / (steps * dt) is the fastest a point may approach the body unseen
- * (0.03 m / 10 steps of 1.3 ms: 2.25 m/s). The body's own motion is carried by the feature points
- * and the moving frame. */
+ * sim/find_contacts.c). Contacts are cached for the frame, the body still through its steps (its
+ * own motion is carried by the feature points and the moving frame); a point that moves past its
+ * clearance (the distance within which the search saw nothing nearer, sim_collider_research) is
+ * searched again before its contact response, whether the search found it a triangle or nothing
+ * within reach. Whether the cloth moves fast (farther than the reach in the frame: a falling
+ * sheet, a hem kicked by a thigh) is decided here for the settle test. */
 static void stage_contacts(struct sim *s, c_state *cs, frame_walk *w)
 {
     sim_cloth *c = &s->cloth;
@@ -316,18 +317,16 @@ static void stage_contacts(struct sim *s, c_state *cs, frame_walk *w)
     sim_phase_end(w->ph, &w->cur, 1);
     if (w->cur.thread == 0)
         w->t_cont = now_ms();
-    w->refresh = sim_contact_every(bits_float(&cs->travel2), w->p->iters);
+    w->fast = sim_frame_fast(bits_float(&cs->travel2), w->p->iters);
 }
 
-/* SIM_STAGE_STEP it, per vertex: the contacts refreshed, Verlet, the attachments placed (the
- * previous phase's tethers were the last to read them). */
+/* SIM_STAGE_STEP it, per vertex: Verlet, the attachments placed (the previous phase's tethers
+ * were the last to read them). */
 static void stage_step(struct sim *s, c_state *cs, frame_walk *w, int it)
 {
     sim_cloth *c = &s->cloth;
     int b, e;
     while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e)) {
-        if (w->refresh && it > 0 && it % w->refresh == 0)
-            sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
         sim_verlet(c->x, c->x_prev, b, e, w->p->keep, w->p->g);
         place_attachments(s, cs, it, w->p->iters, b, e);
     }
@@ -347,24 +346,20 @@ static int stage_settle_test(struct sim *s, c_state *cs, frame_walk *w, int rep)
                         sim_stretch_max((const float(*)[4])c->x, c->ends, c->rest, c->kind, b, e));
     sim_phase_end(w->ph, &w->cur, 1);
     float m = bits_float(&cs->settle[k]);
-    if (sim_settle_stop(m, w->prev, k == 0, w->refresh, w->p))
+    if (sim_settle_stop(m, w->prev, k == 0, w->fast, w->p))
         return 1;
     w->prev = m;
     return 0;
 }
 
-/* SIM_STAGE_REOPEN before settle round rep: the bracket opened; a frame fast enough to refresh
- * its contacts in the steps moves far in these rounds too (a sheet landing on a sphere: cm), so
- * they are searched once more before the first. */
-static void stage_reopen(struct sim *s, frame_walk *w, int rep)
+/* SIM_STAGE_REOPEN before a settle round: the bracket opened (a point the rounds move far, a
+ * sheet landing on a sphere, is searched again in the round's contact response). */
+static void stage_reopen(struct sim *s, frame_walk *w)
 {
     sim_cloth *c = &s->cloth;
     int b, e;
-    while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e)) {
-        if (w->refresh && rep == 0)
-            sim_collider_find_contacts(s->collider, (const float(*)[4])c->x, b, e);
+    while (sim_phase_claim(w->ph, &w->cur, c->nv, GRAIN_VERTICES, &b, &e))
         sim_post_begin(c->x, c->x_prev, b, e);
-    }
     sim_phase_end(w->ph, &w->cur, 0);
 }
 
@@ -417,7 +412,7 @@ static int run_stage(struct sim *s, c_state *cs, frame_walk *w, int st, int b, i
     case SIM_STAGE_SETTLE_TEST:
         return stage_settle_test(s, cs, w, rep);
     case SIM_STAGE_REOPEN:
-        stage_reopen(s, w, rep);
+        stage_reopen(s, w);
         break;
     default:
         break;

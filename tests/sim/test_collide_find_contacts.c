@@ -1,7 +1,9 @@
 /* The contact search called by a team, each thread with its own range (as the solver calls it),
  * where threads done with their range take chunks of the others' (sim/find_contacts.c): the
  * contacts and clearance bounds are bit for bit those of one thread searching all the points,
- * for teams of 2 to 5 threads, uneven ranges, an empty range, and threads that do not call. */
+ * for teams of 2 to 5 threads, uneven ranges, an empty range, and threads that do not call.
+ * And the search again of a point that moved past its clearance (sim_collider_research), also one
+ * the frame's search found nothing within reach for. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -146,10 +148,42 @@ static void test_collide_find_contacts_by_a_team_equals_one_thread(void **state)
     sim_collider_destroy(f.c);
 }
 
+/* Points far outside (nothing within reach): one moved a centimetre stays without a contact; one
+   moved onto the surface, past its clearance, gets the triangle under it and the response puts
+   it out at the thickness. The solver's steps rely on this, not on searching every point again
+   (sim/solver_c.c, stage_contacts); without it the second point was left 1 mm from the sphere. */
+static void test_collide_research_finds_a_point_that_had_no_contact(void **state)
+{
+    (void)state;
+    fixture f;
+    make(&f);
+    reset(&f);
+    float far[2][4] = {{0.0f, 0.3f, 0.0f, 1.0f}, {0.3f, 0.0f, 0.0f, 1.0f}};
+    float prev[2][4];
+    memcpy(f.x, far, sizeof far);
+    sim_collider_find_contacts(f.c, (const float(*)[4])f.x, 0, 2);
+    assert_int_equal(sim_collider_contacts(f.c)[0], -1);
+    assert_int_equal(sim_collider_contacts(f.c)[1], -1);
+    f.x[0][1] = 0.29f;  /* 1 cm: within the clearance (thickness + reach) */
+    f.x[1][0] = 0.201f; /* onto the sphere of 0.2 m, within the thickness */
+    memcpy(prev, f.x, sizeof prev);
+    sim_collider_research(f.c, (const float(*)[4])f.x, 0, 2);
+    assert_int_equal(sim_collider_contacts(f.c)[0], -1);
+    assert_true(sim_collider_contacts(f.c)[1] >= 0);
+    sim_collider_resolve(f.c, f.x, prev, 0, 2);
+    float r = sqrtf(f.x[1][0] * f.x[1][0] + f.x[1][1] * f.x[1][1] + f.x[1][2] * f.x[1][2]);
+    /* the sphere's facets lie inside 0.2 m by up to 0.2 (1 - cos(pi / 24)) = 1.7 mm */
+    assert_true(r > 0.2f + 0.004f - 0.002f);
+    assert_float_equal(f.x[0][1], 0.29f, 0.0f);
+    free(f.x);
+    sim_collider_destroy(f.c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_collide_find_contacts_by_a_team_equals_one_thread),
+        cmocka_unit_test(test_collide_research_finds_a_point_that_had_no_contact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

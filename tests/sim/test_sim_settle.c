@@ -1,7 +1,7 @@
 /* The settle rounds' stop (kernels/solver_params.h, sim_settle_stop): they stop for slow progress
  * only within the strain retry goal. The bends' frames take 1.5-3 % off the strain a batch, at
  * the progress bound, so they stopped at 4-9 % and were done again; with the plain contact push,
- * the velocity it left made those frames refresh their contacts, which kept the rounds going
+ * the velocity it left made those frames fast (sim_frame_fast), which kept the rounds going
  * (docs/sim-real-motion.md, "Real motion: the bends' settle rounds"). */
 #include <math.h>
 #include <setjmp.h>
