@@ -215,9 +215,9 @@ void sim_resolve_one(__global float4 *x, __global float4 *x_prev, int i,
 }
 
 /* Twin of sim_collider_research (sim/find_contacts.c): point i searched again when it has moved
-   farther from where its contact was searched (seen[i]) than that search's clearance (the signed
-   distance there to its triangle; radius, the search's reach, when it found none), or than the
-   thickness h when that is less. */
+   farther from where its contact was searched (seen[i]) than sim_research_radius allows
+   (kernels/contact_rule.h) for that search's clearance (the signed distance there to its
+   triangle; radius, the search's reach, when it found none). */
 void sim_research_one(__global const float4 *x, int i, __global int *contact, __global float4 *seen,
                       __global const float4 *v, __global const int4 *tris,
                       __global const float4 *nrm, __global const int4 *nbr,
@@ -243,7 +243,7 @@ void sim_research_one(__global const float4 *x, int i, __global int *contact, __
             clear = sim_dot3(d, pn) >= 0.0f ? len : -len;
         }
     }
-    float r = clear > h ? clear : h;
+    float r = sim_research_radius(clear, h);
     float4 m = sim_sub3(p, s);
     if (sim_dot3(m, m) > r * r) {
         contact[i] = sim_contact_search(nleaves, child, order, lo, hi, v, tris, p, radius);

@@ -177,7 +177,8 @@ static int cl_create(struct sim *s, void **state, char *err, size_t err_size)
         return -SIM_ERR_NO_MEMORY;
     }
     const char *files[] = {SIM_CL_COLLIDE_FILES, "solver_params.h", "springs.cl"};
-    if (sim_cl_open(&c->cl, err, err_size) != 0 || sim_cl_build(&c->cl, files, 5, err, err_size) ||
+    if (sim_cl_open(&c->cl, err, err_size) != 0 ||
+        sim_cl_build(&c->cl, files, (int)(sizeof files / sizeof files[0]), err, err_size) ||
         sim_cl_collide_create(&c->g, &c->cl, s->desc.max_body_vertices, s->desc.max_body_triangles,
                               k->nv, err, err_size) != 0)
         goto fail;

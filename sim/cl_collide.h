@@ -10,7 +10,7 @@
 #include "collide.h"
 
 /* Files the program needs (after kernels/common.cl). */
-#define SIM_CL_COLLIDE_FILES "bvh.cl", "feature_points.cl", "collide.cl"
+#define SIM_CL_COLLIDE_FILES "bvh.cl", "feature_points.cl", "contact_rule.h", "collide.cl"
 
 typedef struct sim_cl_collide {
     const sim_cl *cl;

@@ -107,6 +107,7 @@ struct sim {
     int iters_good;    /* the steps of the frame that made the good state (its velocity's step) */
     float strain_good; /* max stretch strain of the last good frame */
     float excess_good; /* its strain over the retry goals (sim.c: strain_excess; > 1: missed) */
+    int carried_run;   /* frames carried in a row, up to this one (sim.c: carry_good) */
     /* The moving frame of this body frame (follow.c): x -> m x (3 x 4, row-major) applied to
        the garment before the feature points when follow_on; follow_pq: 2 * (num_attachments +
        SIM_FOLLOW_ANCHORS) points, the anchors (or the attachments) in frames k-1 and k. */
@@ -136,6 +137,13 @@ struct sim {
 #define SIM_DIVERGE_FRAME_SPEED 30.0f  /* m/s over a frame: 3 s of free fall, 6x a fast wrist */
 #define SIM_MAX_RETRIES         2      /* each retry doubles the iterations */
 #define SIM_CARRY_MAX_STRAIN    0.10f  /* a carried cloth stretched more is dressed again (carry) */
+/* Frames carried in a row after which the garment is dressed again as made (sim.c, carry_good):
+   the moving frame carries the last good cloth as it is, and a last good cloth the solver cannot
+   leave (the T-shirt torn in the arm raise) was carried to the end of the scene, 110 frames. Half
+   a second: the boxer's longest carried run (14 frames, the clip whole) ends by itself, and
+   dressed again at 5 it went 65 mm inside him (docs/sim-history-6.md, "Dressed again after a
+   long carried run"). */
+#define SIM_CARRY_REDRESS_RUN 15
 /* A pinch is no tear: at most this many stretch springs past SIM_DIVERGE_STRAIN, none past
    SIM_PINCH_STRAIN. Where a hand presses the hem into the hip the cloth between them has no room:
    on the boxing clip's fitted bodies 1-10 springs of 6 mm went past 50 % (the cloth moved at most

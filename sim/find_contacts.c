@@ -18,6 +18,7 @@
 
 #include "collide.h"
 #include "collide_bvh.h"
+#include "contact_rule.h"
 
 /* Points a claim takes: some 25 us of searches, against an atomic operation a claim. */
 #define SHARE_CHUNK 32
@@ -155,7 +156,7 @@ void sim_collider_research(sim_collider *c, const float (*x)[4], int begin, int 
             continue;
         const float *b = c->clear[i];
         float d[3] = {x[i][0] - b[0], x[i][1] - b[1], x[i][2] - b[2]};
-        float r = b[3] > c->d.thickness_m ? b[3] : c->d.thickness_m;
+        float r = sim_research_radius(b[3], c->d.thickness_m);
         if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > r * r)
             search_points(c, x, i, i + 1);
     }

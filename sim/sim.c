@@ -616,11 +616,15 @@ static int carry_or_redress(sim *s)
 }
 
 /* First the garment's moving frame, which stretches nothing (recover.c), then the carry point by
-   point (a garment without a moving frame). */
+   point (a garment without a moving frame). After SIM_CARRY_REDRESS_RUN frames carried in a row
+   the last good cloth is one the solver cannot leave: the garment is dressed again as made. */
 static int carry_good(sim *s)
 {
-    if (sim_recover_rigid(s) != 0 && carry_or_redress(s) != 0)
+    if (s->carried_run >= SIM_CARRY_REDRESS_RUN && redress_rigid(s) == 0) {
+        s->carried_run = 0;
+    } else if (sim_recover_rigid(s) != 0 && carry_or_redress(s) != 0) {
         return -1;
+    }
     memcpy(s->cloth.x_prev, s->cloth.x, (size_t)s->cloth.nv * sizeof *s->cloth.x_prev);
     s->ops->upload(s->backend, s);
     return 0;
@@ -799,6 +803,7 @@ int sim_step(sim *s, const float *body_xyz, int nv, const int32_t *body_tris, in
     s->frame++;
     double t2 = now_ms();
     int carried = !ok && carry_good(s) == 0;
+    s->carried_run = carried ? s->carried_run + 1 : 0;
     /* What is published is measured, whatever made it: solved, carried or kept. */
     if (!ok)
         sim_strain_stats(&s->cloth, s->scratch, &max_strain, &p99);

@@ -129,7 +129,8 @@ static void test_cl_solver_params_layout(void **state)
     char err[256] = "";
     const char *files[] = {SIM_CL_COLLIDE_FILES, "solver_params.h", "springs.cl"};
     assert_int_equal(sim_cl_open(&cl, err, sizeof err), 0);
-    assert_int_equal(sim_cl_build(&cl, files, 5, err, sizeof err), 0);
+    assert_int_equal(
+        sim_cl_build(&cl, files, (int)(sizeof files / sizeof files[0]), err, sizeof err), 0);
     cl_kernel k = sim_cl_kernel(&cl, "sim_solver_params_layout", err, sizeof err);
     assert_non_null(k);
     cl_int st;

@@ -43,7 +43,7 @@ static int setup(void **state)
         return 0;
     }
     const char *files[] = {SIM_CL_COLLIDE_FILES};
-    if (sim_cl_build(&f.cl, files, 3, err, sizeof err) != 0) {
+    if (sim_cl_build(&f.cl, files, (int)(sizeof files / sizeof files[0]), err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }

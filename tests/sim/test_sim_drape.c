@@ -17,11 +17,11 @@
 /* Bounds of the tall hanging sheet (limit 1 %; see the test) */
 #define SIM_HANG_MAX_STRAIN 0.011f
 #define SIM_HANG_P99_STRAIN 0.0103f
-/* the pushed sheet: 2.1 % with the strain retries and each point's contact searched again as it
-   moves past its clearance (2.0 % with every point searched every 10 steps, 1.9 % every 5; 3.7 %
-   before the retries; 2.9 % before the hierarchy's velocity modification and 50
-   settle rounds, 3.3 % at the 1 % clamp), 6.1 % with the post rounds alone, 19.1 % without
-   either: within ARCHITECTURE.md's 3 % */
+/* the pushed sheet: 2.0 % with the strain retries and each point's contact searched again as it
+   moves past its clearance (kernels/contact_rule.h; 2.0 % with every point searched every 10
+   steps, 1.9 % every 5; 3.7 % before the retries; 2.9 % before the hierarchy's velocity
+   modification and 50 settle rounds, 3.3 % at the 1 % clamp), 6.1 % with the post rounds
+   alone, 19.1 % without either: within ARCHITECTURE.md's 3 % */
 #define SIM_PUSH_MAX_STRAIN 0.03f
 
 static void drape_reaches_rest(sim_backend b, sim_solver solver)

@@ -18,11 +18,11 @@
 #include "sim_test_util.h"
 
 /* Update only for an intended change of the solver, with the reason in the commit. */
-#define GOLDEN_C_TRYON 0xa7acf791u
+#define GOLDEN_C_TRYON 0xd1446606u
 #define GOLDEN_C_SEED  0xcef7b6a0u
 /* PoCL's CPU device (this project's OpenCL); another device may round differently: then the test
    says so and checks only that the hash is the same run after run. */
-#define GOLDEN_CL_TRYON 0xa7acf791u /* the same bits as the C reference */
+#define GOLDEN_CL_TRYON 0xd1446606u /* the same bits as the C reference */
 
 static uint32_t fnv1a(const void *p, size_t n, uint32_t h)
 {
