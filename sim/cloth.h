@@ -141,8 +141,8 @@ struct sim {
    the moving frame carries the last good cloth as it is, and a last good cloth the solver cannot
    leave (the T-shirt torn in the arm raise) was carried to the end of the scene, 110 frames. Half
    a second: the boxer's longest carried run (14 frames, the clip whole) ends by itself, and
-   dressed again at 5 it went 65 mm inside him (docs/sim-history-6.md, "Dressed again after a
-   long carried run"). */
+   dressed again at 5 it went 65 mm inside him (docs/sim-history-6.md, "Contacts searched again
+   where a point moved"). */
 #define SIM_CARRY_REDRESS_RUN 15
 /* A pinch is no tear: at most this many stretch springs past SIM_DIVERGE_STRAIN, none past
    SIM_PINCH_STRAIN. Where a hand presses the hem into the hip the cloth between them has no room:
