@@ -86,10 +86,9 @@ void sim_collider_track_contacts(sim_collider *c, const float (*x)[4], int begin
    sim_research_radius (kernels/contact_rule.h) allows for that search's clearance (their distance
    to the whole body then; thickness + reach for a point that had nothing within reach) are
    searched again: the cached triangle, or none, is only sure to be the one that matters within
-   that distance. A point
-   pushed off one wall of a gap narrower than twice the thickness (the lowered arm against the
-   chest) goes into the other wall, which the frame's search did not give it (docs/garments.md, "The
-   T-shirt with the arms lowered"). */
+   that distance. A point pushed off one wall of a gap narrower than twice the thickness (the
+   lowered arm against the chest) goes into the other wall, which the frame's search did not give
+   it (docs/garments.md, "The T-shirt with the arms lowered"). */
 void sim_collider_research(sim_collider *c, const float (*x)[4], int begin, int end);
 
 /* Push points out to thickness along the contact normal (face normal, or the pseudo-normal at
