@@ -29,25 +29,35 @@
 /* the attached vertices against their attachments' places on a body that turns rigidly, metres */
 #define ATTACH_TOL_M 0.001f
 
-/* Every attempt fails (gravity 1e7 m/s^2, the strain limit at 100 %): frame 0 has nothing to
- * carry from (DIVERGED), every later frame is CARRIED. With the contacts searched again after a
- * long move (docs/collision.md, "Response") the body holds such a cloth and the strain limit at
- * its default keeps it under SIM_DIVERGE_STRAIN (24.6 % measured on turn): the loose limit lets
- * it blow up. Returns the worst published max strain; *attach_m the farthest an
- * attached vertex lies from its attachment's place on the last frame. */
+/* The shirt on motion where every attempt fails (gravity 1e7 m/s^2, the strain limit at 100 %).
+ * With the contacts searched again after a long move (docs/collision.md, "Response") the body
+ * holds such a cloth and the strain limit at its default keeps it under SIM_DIVERGE_STRAIN (24.6 %
+ * measured on turn): the loose limit lets it blow up. */
+static sim *make_unsolvable(sim_backend b, const char *motion, sim_scene **sc, sim_garment *g,
+                            sim_desc *d)
+{
+    int nv, nt;
+    assert_int_equal(simt_scene_shirt(motion, BODY_VERTS, SHIRT_VERTS, 0.0f, sc, g, &nv, &nt), 0);
+    *d = sim_default_desc();
+    d->backend = b;
+    d->gravity_m_s2 = 1e7f;
+    d->strain_limit = 1.0f;
+    sim_reject why = {0};
+    sim *s = sim_create(d, g, &why);
+    assert_non_null(s);
+    return s;
+}
+
+/* Frame 0 has nothing to carry from (DIVERGED), every later frame is CARRIED. Returns the worst
+ * published max strain; *attach_m the farthest an attached vertex lies from its attachment's
+ * place on the last frame. */
 static float run_unsolvable(sim_backend b, const char *motion, float *attach_m)
 {
     sim_scene *sc = NULL;
     sim_garment g = {0};
+    sim_desc d;
+    sim *s = make_unsolvable(b, motion, &sc, &g, &d);
     int nv, nt;
-    assert_int_equal(simt_scene_shirt(motion, BODY_VERTS, SHIRT_VERTS, 0.0f, &sc, &g, &nv, &nt), 0);
-    sim_desc d = sim_default_desc();
-    d.backend = b;
-    d.gravity_m_s2 = 1e7f;
-    d.strain_limit = 1.0f;
-    sim_reject why = {0};
-    sim *s = sim_create(&d, &g, &why);
-    assert_non_null(s);
     float worst = 0.0f;
     const float *xyz;
     const int32_t *tris;
@@ -123,16 +133,10 @@ static void test_sim_carry_redresses_after_a_long_run(void **state)
     for (int k = 0; k < n; k++) {
         sim_scene *sc = NULL;
         sim_garment g = {0};
-        int nv, nt;
-        assert_int_equal(
-            simt_scene_shirt("still", BODY_VERTS, SHIRT_VERTS, 0.0f, &sc, &g, &nv, &nt), 0);
-        sim_desc d = sim_default_desc();
-        d.backend = bs[k];
-        d.gravity_m_s2 = 1e7f;
-        d.strain_limit = 1.0f;
+        sim_desc d;
+        sim *s = make_unsolvable(bs[k], "still", &sc, &g, &d);
         sim_reject why = {0};
-        sim *s = sim_create(&d, &g, &why);
-        assert_non_null(s);
+        int nv, nt;
         const float *xyz;
         const int32_t *tris;
         float stretched_seen = 0.0f, after = 1.0f;
