@@ -121,3 +121,23 @@ int simt_scene_shirt(const char *motion, int body_verts, int shirt_verts, float 
         return -SIM_ERR_PARAM;
     return sim_garment_shirt(xyz, *nv, tris, *nt, joints, shirt_verts, 0.0f, hem_m, g, &why);
 }
+
+float simt_attachment_off_m(const sim *s, const sim_attachment *a, const float *xyz,
+                            const int32_t *tris)
+{
+    const int32_t *t = &tris[a->body_triangle * 3];
+    const float *v0 = &xyz[t[0] * 3], *v1 = &xyz[t[1] * 3], *v2 = &xyz[t[2] * 3];
+    float e1[3] = {v1[0] - v0[0], v1[1] - v0[1], v1[2] - v0[2]};
+    float e2[3] = {v2[0] - v0[0], v2[1] - v0[1], v2[2] - v0[2]};
+    float nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0]};
+    float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    const float *x = &sim_positions(s)[a->vertex * 4];
+    float d2 = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        float e = x[k] - (a->bary[0] * v0[k] + a->bary[1] * v1[k] + a->bary[2] * v2[k] +
+                          a->offset_m * nrm[k] / len);
+        d2 += e * e;
+    }
+    return sqrtf(d2);
+}

@@ -22,4 +22,8 @@ float simt_max_speed(const sim *s, float frame_dt); /* m/s from the last step */
    into nv, nt. Returns sim_garment_shirt's result, or -SIM_ERR_PARAM without a scene. */
 int simt_scene_shirt(const char *motion, int body_verts, int shirt_verts, float hem_m,
                      sim_scene **sc, sim_garment *g, int *nv, int *nt);
+/* How far (m) attachment a's vertex lies in s from the attachment's place on the body (xyz, tris:
+   [n][3]): the foot b0 v0 + b1 v1 + b2 v2 on its triangle, offset along the triangle's normal. */
+float simt_attachment_off_m(const sim *s, const sim_attachment *a, const float *xyz,
+                            const int32_t *tris);
 #endif

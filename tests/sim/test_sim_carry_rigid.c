@@ -75,27 +75,8 @@ static float run_unsolvable(sim_backend b, const char *motion, float *attach_m)
     }
     assert_true(simt_all_finite(s));
     *attach_m = 0.0f;
-    const float *x = sim_positions(s);
-    for (int a = 0; a < g.num_attachments; a++) {
-        const sim_attachment *at = &g.attachments[a];
-        const int32_t *t = &tris[at->body_triangle * 3];
-        const float *v0 = &xyz[t[0] * 3], *v1 = &xyz[t[1] * 3], *v2 = &xyz[t[2] * 3];
-        float e1[3] = {v1[0] - v0[0], v1[1] - v0[1], v1[2] - v0[2]};
-        float e2[3] = {v2[0] - v0[0], v2[1] - v0[1], v2[2] - v0[2]};
-        float nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                        e1[0] * e2[1] - e1[1] * e2[0]};
-        float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-        float p[3]; /* the attachment's place: its foot on the triangle, offset along the normal */
-        for (int k = 0; k < 3; k++)
-            p[k] = at->bary[0] * v0[k] + at->bary[1] * v1[k] + at->bary[2] * v2[k] +
-                   at->offset_m * nrm[k] / len;
-        float d2 = 0.0f;
-        for (int k = 0; k < 3; k++) {
-            float e = x[at->vertex * 4 + k] - p[k];
-            d2 += e * e;
-        }
-        *attach_m = fmaxf(*attach_m, sqrtf(d2));
-    }
+    for (int a = 0; a < g.num_attachments; a++)
+        *attach_m = fmaxf(*attach_m, simt_attachment_off_m(s, &g.attachments[a], xyz, tris));
     sim_destroy(s);
     sim_garment_free(&g);
     sim_scene_destroy(sc);

@@ -66,22 +66,7 @@ static void pinch_frame(sim_backend b, float springs, sim_frame_stats *st, float
     assert_int_equal(sim_step(s, body, nv, tris, nt, st, &why), 0);
     float free_max;
     *over = sim_strain_count_over(&s->cloth, SIM_DIVERGE_STRAIN, &free_max);
-    const sim_attachment *a = &g.attachments[0];
-    const int32_t *t = &tris[a->body_triangle * 3];
-    const float *v0p = &body[t[0] * 3], *v1p = &body[t[1] * 3], *v2p = &body[t[2] * 3];
-    float e1[3] = {v1p[0] - v0p[0], v1p[1] - v0p[1], v1p[2] - v0p[2]};
-    float e2[3] = {v2p[0] - v0p[0], v2p[1] - v0p[1], v2p[2] - v0p[2]};
-    float nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0]};
-    float nl = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]), want[3], got[4];
-    for (int k = 0; k < 3; k++) /* sim_attachment: b0 v0 + b1 v1 + b2 v2 + offset * n */
-        want[k] = a->bary[0] * v0p[k] + a->bary[1] * v1p[k] + a->bary[2] * v2p[k] +
-                  a->offset_m * nrm[k] / nl;
-    const float *x = sim_positions(s);
-    memcpy(got, &x[a->vertex * 4], sizeof got);
-    *off_m =
-        sqrtf((got[0] - want[0]) * (got[0] - want[0]) + (got[1] - want[1]) * (got[1] - want[1]) +
-              (got[2] - want[2]) * (got[2] - want[2]));
+    *off_m = simt_attachment_off_m(s, &g.attachments[0], body, tris);
     sim_destroy(s);
     sim_garment_free(&g);
     sim_scene_destroy(sc);
