@@ -24,6 +24,7 @@ typedef struct bench_opts {
     const char *scores_path; /* --scores FILE */
     int true_shape;          /* --true-shape: the recording's own shape, held (a diagnosis) */
     int true_except;         /* --true-shape-except K: that one parameter the average's; -1 */
+    int true_start;          /* --true-start: each frame fitted from its true pose (a diagnosis) */
     FILE *scores;            /* one line per scored frame, or NULL */
     int first;               /* --first N: a line for each of a recording's first N frames */
 } bench_opts;
@@ -414,6 +415,12 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
          * thread's (OpenCV's workers too: what the process costs the machine). */
         double t0 = now_ms(), c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID);
         double p0 = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
+        if (o->true_start && gt) {
+            fit_pose start;
+            memcpy(start.root, gt[k].pose, sizeof start.root);
+            memcpy(start.rot, gt[k].pose + 3, sizeof start.rot);
+            fit_tracker_start_from(tr, &start);
+        }
         fit_tracker_frame(tr, &v, &r);
         double dt = now_ms() - t0;
         push(&tot->cpu, &tot->ncpu, &tot->cap_cpu, clock_ms(CLOCK_THREAD_CPUTIME_ID) - c0);
@@ -492,7 +499,8 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: tryon-bench-fit [--out DIR] [--frames N] [--cloth-vertices N] [--scores FILE]\n"
-            "                       [--true-shape] [--true-shape-except K] [--first N]\n");
+            "                       [--true-shape] [--true-shape-except K] [--true-start]\n"
+            "                       [--first N]\n");
     fit_tracker_options_usage(f, 23);
     fprintf(f,
             "                       RECORDING...\n"
@@ -511,6 +519,8 @@ static void usage(FILE *f)
             "--true-shape: fit with the recording's true shape, held (the pose's share of the\n"
             "error, a diagnosis); --true-shape-except K: the same with parameter K (0..8,\n"
             "fit_shape order) the average preset's (what that parameter's error costs).\n"
+            "--true-start: each frame's fit starts from its true pose (with --true-shape:\n"
+            "what the fit's own terms do to the truth, a diagnosis).\n"
             "--first N: a line for each of a recording's first N frames, 'first recording\n"
             "frame state wall_ms segment_cpu_ms fit_cpu_ms skin_cpu_ms iterations\n"
             "shape_steps shape_moved_mm' (what a person entering costs; the largest shape\n"
@@ -529,6 +539,9 @@ static int parse_args(int argc, char **argv, bench_opts *o, int *first)
             exit(0);
         } else if (!strcmp(a, "--true-shape")) {
             o->true_shape = 1;
+            continue;
+        } else if (!strcmp(a, "--true-start")) {
+            o->true_start = 1;
             continue;
         } else if (fit_tracker_option(a, v, &o->td, &bad))
             ;

@@ -25,7 +25,12 @@
 #define SOLVE_FRONT_SLACK_M 0.03f
 /* in front of the seen surface by more than this: violation */
 #define SOLVE_REST_PRIOR 2e-5 /* per radian squared, against a data term of ~1e-4 m^2 */
-#define SOLVE_LM_DAMPING 1e-3 /* relative to the diagonal */
+/* Levenberg-Marquardt damping, relative to the diagonal. Depth barely sees some combinations of
+ * joints (a clavicle against its shoulder, the head against the neck, a wrist's twist): at 1e-3
+ * one step from the true pose on a noise-free frame of the boxer's guard turned the head 0.3 rad
+ * and moved the shoulders 20-40 mm, and 6 iterations from the truth ended 16.9 mm off the true
+ * joints; at 0.1, 9.2 mm (docs/bodyfit.md, "The solver's damping"). */
+#define SOLVE_LM_DAMPING 0.1
 
 struct fit_solver {
     const fit_model *m;

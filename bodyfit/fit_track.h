@@ -167,6 +167,11 @@ void fit_tracker_destroy(fit_tracker *t);
 /* Fits one frame. Always fills out (a bad or empty frame: state LOST, error and message set)
  * and returns out->error. */
 fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_result *out);
+/* The next frame's fit starts from pose (once) instead of from the last frame's, its motion
+ * carried on; the temporal prior still holds to the latter. A diagnosis, not tracking: from
+ * the true pose, what the fit's own terms do to the truth (tryon-bench-fit --true-start).
+ * Ignored while no person is tracked. */
+void fit_tracker_start_from(fit_tracker *t, const fit_pose *pose);
 
 /* ---- The fit itself (exposed for tests and benchmarks) ---- */
 /* d(vertex)/d(parameters) of linear-blend skinning: parameters are the root translation (3)

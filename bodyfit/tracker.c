@@ -121,6 +121,8 @@ struct fit_tracker {
     float published_joints[FIT_JOINT_COUNT * 3]; /* world, of the pose last published */
     int have_published;
     int iterations, shape_steps; /* this frame's work (fit_result) */
+    fit_pose start;              /* fit_tracker_start_from's, for the next frame */
+    int have_start;
 };
 
 /* Builds the coarse and the published model of a shape; keeps the old ones on failure. */
@@ -535,6 +537,13 @@ static int track_bound_speed(fit_tracker *t, const fit_pose *was_p, fit_pose *p)
     return changed;
 }
 
+void fit_tracker_start_from(fit_tracker *t, const fit_pose *pose)
+{
+    t->start = *pose;
+    fit_pose_clamp(&t->start);
+    t->have_start = 1;
+}
+
 fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_result *out)
 {
     memset(out, 0, sizeof *out);
@@ -590,6 +599,9 @@ fit_frame_error fit_tracker_frame(fit_tracker *t, const fit_depth_view *v, fit_r
     if (!fresh && t->have_last && t->d.predict > 0.0f)
         track_predict(&t->prev, &t->pose, &t->last, t->d.predict);
     fit_pose pose = t->prev;
+    if (!fresh && t->have_start)
+        pose = t->start;
+    t->have_start = 0;
     pb.prev = fresh ? NULL : &t->prev;
     fit_stats st;
     int rc = track_solve(t, &pb, &pose, &st);
