@@ -41,6 +41,21 @@ static char *run_bench(char **argv, const char *log, const char **json)
     return text;
 }
 
+/* run_bench in a temporary folder of its own, removed after: the JSON line's fields keys[0..n). */
+static void bench_fields(const char *tag, char **argv, const char *const *keys, double *values,
+                         int n)
+{
+    char dir[256], log[400];
+    const char *json;
+    assert_int_equal(ts_temp_dir(dir, sizeof dir, tag), 0);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    char *text = run_bench(argv, log, &json);
+    for (int k = 0; k < n; ++k)
+        values[k] = json_field(json, keys[k]);
+    free(text);
+    ts_remove_dir(dir);
+}
+
 static void test_fit_bench_scores_and_writes(void **state)
 {
     (void)state;
@@ -120,18 +135,13 @@ static void test_fit_bench_scores_and_writes(void **state)
 static void test_fit_bench_cloth_vs_truth(void **state)
 {
     (void)state;
-    char dir[256], log[400];
-    assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench3"), 0);
-    snprintf(log, sizeof log, "%s/log.txt", dir);
     char *argv[] = {TRYON_BENCH_FIT_EXE, "--cloth-vertices", "300",
                     TRYON_SAMPLES_DIR "/arm_raise_s0_exact", NULL};
-    const char *json;
-    char *text = run_bench(argv, log, &json);
-    double d = json_field(json, "cloth_vs_truth_mm");
-    assert_true(d > 0.0 && d < 20.0);
-    assert_true(json_field(json, "cloth_vertices") == 300.0);
-    free(text);
-    ts_remove_dir(dir);
+    static const char *const keys[] = {"cloth_vs_truth_mm", "cloth_vertices"};
+    double v[2];
+    bench_fields("fitbench3", argv, keys, v, 2);
+    assert_true(v[0] > 0.0 && v[0] < 20.0);
+    assert_true(v[1] == 300.0);
 }
 
 /* --true-start (with --true-shape): every frame fitted from its true pose, so the error left is
@@ -139,17 +149,12 @@ static void test_fit_bench_cloth_vs_truth(void **state)
 static void test_fit_bench_from_the_true_pose(void **state)
 {
     (void)state;
-    char dir[256], log[400];
-    assert_int_equal(ts_temp_dir(dir, sizeof dir, "fitbench4"), 0);
-    snprintf(log, sizeof log, "%s/log.txt", dir);
     char *argv[] = {TRYON_BENCH_FIT_EXE, "--true-shape", "--true-start",
                     TRYON_SAMPLES_DIR "/arm_raise_s0_exact", NULL};
-    const char *json;
-    char *text = run_bench(argv, log, &json);
-    double j = json_field(json, "joints_mm");
+    static const char *const keys[] = {"joints_mm"};
+    double j;
+    bench_fields("fitbench4", argv, keys, &j, 1);
     assert_true(j > 0.0 && j < 3.5);
-    free(text);
-    ts_remove_dir(dir);
 }
 
 static void test_fit_bench_without_truth_and_bad_options(void **state)
