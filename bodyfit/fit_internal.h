@@ -116,9 +116,13 @@ int fit_shape_step(const fit_shape_base *b, fit_model *coarse, const fit_solver 
  * centroid: that cluster's mean point. -1 without memory. */
 int fit_unexplained_cluster(const float *points, const fit_matches *m, float tol, float radius_m,
                             float centroid[3]);
-/* Turns the arm whose shoulder is nearest target (world) about the shoulder so that its
- * shoulder-to-wrist line points at target, the pose kept inside the joint limits
- * (fit_limb.c). Returns the shoulder joint turned. */
-int fit_limb_reaim(const fit_model *m, fit_pose *pose, const float target[3]);
+/* A lost arm turned towards its points, target (world; fit_limb.c): the shoulder nearest
+ * target (FIT_L_SHOULDER or FIT_R_SHOULDER); the arm of shoulder sh turned about the shoulder
+ * so that its shoulder-to-wrist line points at target; or its forearm turned, the upper arm
+ * twisted about itself and the elbow bent, so that its elbow-to-wrist line does. The pose is
+ * kept inside the joint limits. */
+int fit_limb_nearest_shoulder(const fit_model *m, const fit_pose *pose, const float target[3]);
+void fit_limb_reaim(const fit_model *m, fit_pose *pose, int sh, const float target[3]);
+void fit_limb_reaim_forearm(const fit_model *m, fit_pose *pose, int sh, const float target[3]);
 
 #endif

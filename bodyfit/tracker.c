@@ -387,31 +387,55 @@ static int track_shape_turns(fit_tracker *t, const fit_problem *pb, fit_pose *po
 }
 
 /* The unexplained points' largest cluster; when it is a limb left behind, the arm nearest it
- * is turned to point at it and the fit run again, and the pose that explains more points is
- * kept (fit_limb.c). *fitted: 0 when the solver's matches are the rejected try's. */
+ * is turned at the shoulder to point at the cluster and the fit run again; unless that found
+ * the limb, its forearm is turned to point at it and the fit run again from there, the temporal
+ * prior then held to the turned pose (held to the frame's prediction, where the forearm was
+ * lost, the fit took it back there). The pose that explains the most points is kept if it
+ * explains more than the fit (docs/bodyfit.md, "A lost forearm").
+ * *fitted: 0 when the solver's matches are not the kept pose's (a try was made). */
 static int track_find_limb(fit_tracker *t, fit_problem *pb, fit_pose *pose, fit_stats *st,
                            int fresh, int *fitted)
 {
-    float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M, at[3];
+    float tol = pb->explained_m > 0.0f ? pb->explained_m : FIT_EXPLAINED_M, at[3], at2[3];
     fit_matches mt = fit_solver_matches(t->solver);
     int cluster = fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
     if (fresh || cluster < TRACK_DOUBT_CLUSTER)
         return cluster;
-    fit_pose alt = *pose;
-    fit_stats st2;
-    fit_limb_reaim(t->coarse, &alt, at);
-    if (track_solve(t, pb, &alt, &st2)) {
-        *fitted = 0;
-        return cluster;
+    const fit_pose from = *pose;
+    int sh = fit_limb_nearest_shoulder(t->coarse, &from, at), kept = -1, last = -1;
+    for (int k = 0; k < 2; ++k) {
+        if (k == 1 && kept == 0 && cluster < TRACK_DOUBT_CLUSTER)
+            break; /* the arm turned at the shoulder explained its points */
+        fit_pose alt = from, turned;
+        fit_problem retry = *pb;
+        if (k == 0) {
+            fit_limb_reaim(t->coarse, &alt, sh, at);
+        } else {
+            fit_limb_reaim_forearm(t->coarse, &alt, sh, at);
+            turned = alt;
+            retry.prev = &turned;
+        }
+        fit_stats st2;
+        if (track_solve(t, &retry, &alt, &st2))
+            break;
+        last = k;
+        if (st2.explained <= st->explained)
+            continue;
+        *pose = alt;
+        *st = st2;
+        kept = k;
+        mt = fit_solver_matches(t->solver);
+        cluster = fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at2);
     }
-    if (st2.explained <= st->explained) {
-        *fitted = 0;
-        return cluster;
+    if (kept >= 0 && kept != last) { /* the solver's matches again the kept pose's */
+        fit_problem measure = *pb;
+        fit_stats st3;
+        measure.iterations = 0;
+        if (!track_solve(t, &measure, pose, &st3))
+            last = kept;
     }
-    *pose = alt;
-    *st = st2;
-    mt = fit_solver_matches(t->solver);
-    return fit_unexplained_cluster(pb->points, &mt, tol, TRACK_CLUSTER_RADIUS_M, at);
+    *fitted = kept >= 0 && kept == last;
+    return cluster;
 }
 
 static void track_predict(fit_pose *out, const fit_pose *now, const fit_pose *before, float g)

@@ -19,7 +19,7 @@
 #define EMPTY_FRAMES 2  /* nobody in front of the camera first */
 #define PERSON       12 /* then this many frames of the person */
 /* The most iterations any frame may take: the first frame's 12 from the rest pose and 8 turns
- * of one; a tracked frame takes 6, 12 when a lost limb is looked for. */
+ * of one; a tracked frame takes 6, 18 when a lost limb is looked for (two tries). */
 #define START_MAX_ITERATIONS 24
 /* The shape's turns on the first frame (8) and the frame's own step after them. */
 #define START_MAX_SHAPE_STEPS 9
@@ -102,7 +102,7 @@ static void test_turns_spread(void **state)
 {
     (void)state;
     fit_tracker_desc d = {.start_turns = 2};
-    int it[PERSON], steps[PERSON], ordinary = 6, limb = 6, init = 12;
+    int it[PERSON], steps[PERSON], ordinary = 6, limb = 2 * 6, init = 12;
     run(&d, it, steps);
     printf("# --start-turns 2: iterations %d %d %d %d %d, shape steps %d %d %d %d %d\n", it[0],
            it[1], it[2], it[3], it[4], steps[0], steps[1], steps[2], steps[3], steps[4]);
