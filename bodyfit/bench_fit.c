@@ -191,6 +191,15 @@ typedef struct rec_scores {
 #define BENCH_BAD_SURFACE_M 0.015
 #define BENCH_BAD_JOINTS_M  0.040
 
+/* A ground truth's pose (recordings.h: root translation, then axis-angle per joint). */
+static fit_pose gt_pose(const rec_gt *g)
+{
+    fit_pose p;
+    memcpy(p.root, g->pose, sizeof p.root);
+    memcpy(p.rot, g->pose + 3, sizeof p.rot);
+    return p;
+}
+
 /* Scores one fitted frame against its truth; the frame's surface and joint errors (m) in
  * err_out. */
 static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gprev,
@@ -198,9 +207,7 @@ static void score_frame(const fit_result *r, const rec_gt *g, const rec_gt *gpre
                         rec_scores *s, totals *tot, double err_out[2])
 {
     err_out[0] = err_out[1] = -1.0;
-    fit_pose pose;
-    memcpy(pose.root, g->pose, sizeof pose.root);
-    memcpy(pose.rot, g->pose + 3, sizeof pose.rot);
+    fit_pose pose = gt_pose(g);
     float tj[FIT_JOINT_COUNT * 3];
     fit_model_pose(truth, &pose, tv, tj);
     int ntv = fit_model_vertex_count(truth);
@@ -416,9 +423,7 @@ static int bench_recording(const char *dir, const bench_opts *o, totals *tot)
         double t0 = now_ms(), c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID);
         double p0 = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
         if (o->true_start && gt) {
-            fit_pose start;
-            memcpy(start.root, gt[k].pose, sizeof start.root);
-            memcpy(start.rot, gt[k].pose + 3, sizeof start.rot);
+            fit_pose start = gt_pose(&gt[k]);
             fit_tracker_start_from(tr, &start);
         }
         fit_tracker_frame(tr, &v, &r);
